@@ -1,0 +1,310 @@
+"""Numerical core of the dry/wet model: a march along the block with exact heat conduction.
+
+The ice is a semi-infinite solid; the block moves over it at ``v``, so a point of the ice
+surface sees the block's cells one after the other, ``dt = dx / v`` each. With a
+piecewise-constant heat flux ``q_k`` into the ice over cell ``k = [X_k, X_k+1)`` the surface
+temperature rise at node ``X_m`` is exactly (Duhamel superposition of the constant-flux
+solution that Eq. 4.6 is built on)::
+
+    theta_m = 2 / sqrt(pi lambda rho c v) * sum_k q_k (sqrt(X_m - X_k) - sqrt(X_m - X_k+1))
+
+Written in the position ``X`` the kernel does not depend on ``v``, so all conditions share
+one kernel matrix and are marched together (vectorised over conditions).
+
+Per cell the surface is either below the melting point (dry contact; flux = all frictional
+heat ``K mu_dry p v``) or held at the melting point (the flux into the ice is what keeps it
+there; the rest of the heat melts ice). At the melting point the contact is dry until the
+film reaches the critical thickness ``h_c``, then wet with shear stress
+``tau_b + eta v / h`` (Eq. 4.3 plus a boundary part). The film grows or refreezes by the
+heat balance ``rho_w L dh/dt = K tau v - q_ice`` (Evans / Oksanen, section 2.6); when the
+heat cannot hold the film at ``h_c`` the cell becomes a mix of dry patches and wet film whose
+heat just balances conduction (Evans' conduction-limited friction).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__: list[str] = []
+
+
+@dataclass(frozen=True)
+class Grid:
+    """Cells along the block (elements and sipe gaps)."""
+
+    nodes_m: np.ndarray  # (N+1,)
+    element_of_cell: np.ndarray  # (N,) element index, -1 in a sipe
+    kernel: np.ndarray  # (N+1, N) W[m, k] in sqrt(m)
+    element_starts: np.ndarray  # first cell of each element
+    element_ends: np.ndarray  # one past the last cell of each element
+    element_front_m: np.ndarray  # node position of each element's leading edge
+
+    @property
+    def dx(self) -> np.ndarray:
+        return np.diff(self.nodes_m)
+
+
+def build_grid(
+    element_lengths_m: np.ndarray,
+    sipe_width_m: float,
+    *,
+    n_cells: int,
+    grading: float,
+    n_gap_cells: int = 4,
+) -> Grid:
+    """Nodes graded towards each element's leading edge (``x = l (j/n)^grading``)."""
+    nodes = [0.0]
+    owner: list[int] = []
+    starts, ends, fronts = [], [], []
+    x0 = 0.0
+    frac = (np.arange(1, n_cells + 1) / n_cells) ** grading
+    for i, length in enumerate(element_lengths_m):
+        if i > 0 and sipe_width_m > 0:
+            gap = x0 + sipe_width_m * np.arange(1, n_gap_cells + 1) / n_gap_cells
+            nodes.extend(gap.tolist())
+            owner.extend([-1] * n_gap_cells)
+            x0 = nodes[-1]
+        starts.append(len(owner))
+        fronts.append(x0)
+        nodes.extend((x0 + length * frac).tolist())
+        owner.extend([i] * n_cells)
+        ends.append(len(owner))
+        x0 = nodes[-1]
+    X = np.asarray(nodes)
+    diff = X[:, None] - X[None, :]  # X_m - X_k
+    root = np.sqrt(np.clip(diff, 0.0, None))
+    kernel = root[:, :-1] - root[:, 1:]
+    kernel = np.tril(kernel, k=-1)  # only cells k < m contribute to node m
+    return Grid(
+        nodes_m=X,
+        element_of_cell=np.asarray(owner),
+        kernel=kernel,
+        element_starts=np.asarray(starts),
+        element_ends=np.asarray(ends),
+        element_front_m=np.asarray(fronts),
+    )
+
+
+@dataclass
+class MarchInput:
+    """Per-condition arrays, shape (n_c,), SI units."""
+
+    velocity: np.ndarray
+    pressure_local: np.ndarray  # contact pressure on the real contact area, Pa
+    delta_T: np.ndarray  # melting point minus ice temperature, K
+    h0: np.ndarray  # bound water layer left behind the wiping edge, m
+    mu_dry: float
+    heat_fraction: float
+    boundary_shear: float
+    critical_film: float
+    viscous_strength: float
+    preheating: float
+    viscosity: float
+    melt_energy: float  # rho_water * latent heat, J/m^3
+    conduction_factor: float  # 2 / sqrt(pi lambda rho c)
+
+
+@dataclass
+class MarchOutput:
+    """Per-condition, per-cell results, shape (n_c, N)."""
+
+    tau: np.ndarray  # mean shear stress over the cell, Pa
+    tau_dry: np.ndarray  # part of tau from dry contact, Pa
+    tau_viscous: np.ndarray  # part from viscous shear, Pa
+    tau_boundary: np.ndarray  # part from boundary shear, Pa
+    dry_fraction: np.ndarray  # fraction of the cell in dry contact
+    film: np.ndarray  # film thickness at the end of the cell, m
+    flux: np.ndarray  # heat flux into the ice, W/m^2
+    theta: np.ndarray  # surface temperature rise at the end of the cell, K
+    heating_length: np.ndarray  # (n_c, n_elements) where the surface first melts, m
+    entry_theta: np.ndarray  # (n_c, n_elements) surface temperature rise at entry, K
+
+
+def _crossing_fraction(
+    q_hist: np.ndarray,
+    X: np.ndarray,
+    k: int,
+    q_dry: np.ndarray,
+    target: np.ndarray,
+    scale: np.ndarray,
+) -> np.ndarray:
+    """Fraction f of cell k at which history + new dry flux reach ``target`` (bisection)."""
+    dx = X[k + 1] - X[k]
+    lo = np.zeros(len(q_dry))
+    hi = np.ones(len(q_dry))
+    xk = X[: k + 1]
+    for _ in range(40):
+        f = 0.5 * (lo + hi)
+        xm = X[k] + f * dx
+        d = xm[:, None] - xk[None, :]
+        root = np.sqrt(np.clip(d, 0.0, None))
+        w = root[:, :-1] - root[:, 1:]
+        theta = scale * (np.einsum("ck,ck->c", q_hist, w) + q_dry * np.sqrt(f * dx))
+        above = theta >= target
+        hi = np.where(above, f, hi)
+        lo = np.where(above, lo, f)
+    return 0.5 * (lo + hi)
+
+
+def march(grid: Grid, inp: MarchInput) -> MarchOutput:
+    """March all conditions along the block; see the module docstring for the physics."""
+    v = inp.velocity
+    p = inp.pressure_local
+    dT = inp.delta_T
+    n_c = len(v)
+    N = len(grid.element_of_cell)
+    X = grid.nodes_m
+    W = grid.kernel
+    dx = grid.dx
+    scale = inp.conduction_factor / np.sqrt(v)  # K per (W/m^2 * sqrt(m))
+    K = inp.heat_fraction
+    tau_dry_full = inp.mu_dry * p
+    q_dry = K * tau_dry_full * v
+    tol = 1e-12 * np.maximum(dT, 1e-9)
+
+    q = np.zeros((n_c, N))
+    q_eff = np.zeros((n_c, N))
+    out = MarchOutput(
+        tau=np.zeros((n_c, N)),
+        tau_dry=np.zeros((n_c, N)),
+        tau_viscous=np.zeros((n_c, N)),
+        tau_boundary=np.zeros((n_c, N)),
+        dry_fraction=np.zeros((n_c, N)),
+        film=np.zeros((n_c, N)),
+        flux=q,
+        theta=np.zeros((n_c, N)),
+        heating_length=np.full((n_c, len(grid.element_starts)), np.nan),
+        entry_theta=np.zeros((n_c, len(grid.element_starts))),
+    )
+    element = -2
+    below = np.ones(n_c, dtype=bool)
+    h = inp.h0.copy()
+    for k in range(N):
+        owner = grid.element_of_cell[k]
+        if owner != element and owner >= 0:
+            # A new element: the edge wipes the melt water down to the bound layer h0, and
+            # the ice carries the (scaled) heat history of everything that slid over it.
+            element = owner
+            q_eff[:, :k] = inp.preheating * q[:, :k]
+            theta_start = scale * (q_eff[:, :k] @ W[k, :k]) if k > 0 else np.zeros(n_c)
+            out.entry_theta[:, owner] = theta_start
+            below = theta_start < dT - tol
+            h = inp.h0.copy()
+            out.heating_length[~below, owner] = 0.0
+        if owner < 0:  # sipe: no contact, no flux; the ice cools
+            hist = scale * (q_eff[:, :k] @ W[k + 1, :k])
+            out.theta[:, k] = hist
+            below = np.ones(n_c, dtype=bool)
+            continue
+
+        x_local = X[k] - grid.element_front_m[owner]
+        hist = scale * (q_eff[:, :k] @ W[k + 1, :k])
+        w_last = scale * W[k + 1, k]
+        dt = dx[k] / v
+
+        # --- part of the cell below the melting point (dry heating) ---
+        f_below = np.zeros(n_c)
+        theta_try = hist + w_last * q_dry
+        stays_below = below & (theta_try < dT)
+        f_below[stays_below] = 1.0
+        crossing = below & ~stays_below
+        if np.any(crossing):
+            idx = np.flatnonzero(crossing)
+            f = (
+                _crossing_fraction(q_eff[idx, :k], X, k, q_dry[idx], dT[idx], scale[idx])
+                if k > 0
+                else (((dT[idx] - 0.0) / (scale[idx] * q_dry[idx])) ** 2 / dx[k])
+            )
+            f = np.clip(f, 0.0, 1.0)
+            f_below[idx] = f
+            first = np.isnan(out.heating_length[idx, owner])
+            out.heating_length[idx[first], owner] = x_local + f[first] * dx[k]
+
+        # --- part of the cell at the melting point ---
+        at_melt = ~stays_below
+        q_hold = np.clip((dT - hist) / w_last, 0.0, None)
+        rem = 1.0 - f_below  # fraction of the cell at the melting point
+        dt_rem = rem * dt
+        tau_w = inp.boundary_shear + inp.viscous_strength * inp.viscosity * v / np.maximum(
+            h, inp.critical_film
+        )
+        tau_w = np.minimum(tau_w, tau_dry_full)
+        q_cell = np.where(stays_below, q_dry, q_hold)
+        a = inp.melt_energy
+
+        # phase 1, dry and melting (film thinner than critical): the heat surplus over the
+        # conduction loss melts ice until the film reaches h_c, at the sub-cell time t_need
+        melting = at_melt & (h < inp.critical_film)
+        surplus = q_dry - q_hold
+        lost = melting & (surplus < 0)  # cannot stay at the melting point: dry again
+        t_need = (inp.critical_film - h) * a / np.maximum(surplus, 1e-300)
+        t_need = np.clip(t_need, 0.0, dt_rem)
+        g = np.where(melting, t_need / np.maximum(dt_rem, 1e-300), 0.0)
+        g = np.where(lost, 1.0, g)
+        grows = melting & ~lost
+        h = np.where(grows, np.minimum(h + surplus * g * dt_rem / a, inp.critical_film), h)
+        h = np.where(grows & (g < 1.0), inp.critical_film, h)
+        q_cell = np.where(lost, q_dry, q_cell)
+        dry_in_rem = g.copy()
+
+        # phase 2, wet for the rest of the cell: implicit film update
+        # rho L (h' - h) = (K (tau_b + s eta v / h') v - q) dt
+        wet = at_melt & ~lost & (g < 1.0)
+        if np.any(wet):
+            dt_w = (1.0 - g) * dt_rem
+            b = a * h + (K * inp.boundary_shear * v - q_hold) * dt_w
+            c = K * inp.viscous_strength * inp.viscosity * v**2 * dt_w
+            disc = np.sqrt(b * b + 4.0 * a * c)
+            h_new = np.where(c > 0, (b + disc) / (2.0 * a), b / a)
+            keeps = wet & (h_new >= inp.critical_film)
+            h = np.where(keeps, h_new, h)
+            tau_w = np.where(
+                keeps,
+                np.minimum(
+                    inp.boundary_shear
+                    + inp.viscous_strength * inp.viscosity * v / np.maximum(h, 1e-12),
+                    tau_dry_full,
+                ),
+                tau_w,
+            )
+            # film collapses: mix of dry patches and wet film at h_c whose heat balances
+            # the conduction loss (conduction-limited friction, Evans)
+            collapse = wet & ~keeps
+            if np.any(collapse):
+                tau_c = np.minimum(
+                    inp.boundary_shear
+                    + inp.viscous_strength * inp.viscosity * v / inp.critical_film,
+                    tau_dry_full,
+                )
+                need = q_hold / (K * v)
+                span = np.maximum(tau_dry_full - tau_c, 1e-30)
+                phi = np.clip((need - tau_c) / span, 0.0, 1.0)
+                lost2 = collapse & (need > tau_dry_full)
+                dry_in_rem = np.where(collapse, g + (1.0 - g) * phi, dry_in_rem)
+                h = np.where(collapse, inp.critical_film, h)
+                tau_w = np.where(collapse, tau_c, tau_w)
+                q_cell = np.where(lost2, q_dry, q_cell)
+                lost = lost | lost2
+
+        dry_frac = f_below + rem * dry_in_rem
+        wet_frac = 1.0 - dry_frac
+        visc = np.minimum(
+            inp.viscous_strength * inp.viscosity * v / np.maximum(h, 1e-12),
+            np.maximum(tau_dry_full - inp.boundary_shear, 0.0),
+        )
+        bnd = np.minimum(inp.boundary_shear, tau_dry_full)
+        # the wet stress tau_w = bnd + visc (both capped so that tau_w <= mu_dry p)
+        visc_share = np.where(bnd + visc > 0, visc / np.maximum(bnd + visc, 1e-30), 0.0)
+        out.tau_dry[:, k] = dry_frac * tau_dry_full
+        out.tau_viscous[:, k] = wet_frac * tau_w * visc_share
+        out.tau_boundary[:, k] = wet_frac * tau_w * (1.0 - visc_share)
+        out.tau[:, k] = out.tau_dry[:, k] + out.tau_viscous[:, k] + out.tau_boundary[:, k]
+        out.dry_fraction[:, k] = dry_frac
+        out.film[:, k] = np.where(at_melt, h, 0.0)
+        q[:, k] = q_cell
+        q_eff[:, k] = q_cell
+        out.theta[:, k] = hist + w_last * q_cell
+        below = stays_below | lost
+    return out
