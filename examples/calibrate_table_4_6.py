@@ -22,7 +22,8 @@ out.mkdir(parents=True, exist_ok=True)
 _, rmse_default = evaluate_on_table_4_6(DryWetParameters())
 result = calibrate_table_4_6(n_starts=4, rng=5)
 print(result.summary())
-print("\nRMSE of the shipped default parameters:", {k: round(v, 4) for k, v in rmse_default.items()})
+shipped = {k: round(v, 4) for k, v in rmse_default.items()}
+print("\nRMSE of the shipped default parameters:", shipped)
 print("\nModel vs. Table 4.6:")
 print(result.table.round(4).to_string(index=False))
 

@@ -8,12 +8,18 @@ Model inputs
     :class:`WaterProperties`.
 Dry/wet model (section 4.5.1)
     :func:`dry_run_in_length` (Eq. 4.7), :func:`flash_temperature_rise` (Eq. 4.6),
-    :func:`simulate_block`, :func:`friction_table`, :func:`real_contact_fraction`,
+    :func:`simulate_block`, :func:`friction_table`, :func:`element_friction_table`,
+    :class:`DryWetLaw` (the model as a friction law), :func:`real_contact_fraction`,
     :func:`initial_water_layer_m`, :func:`freezing_point_depression_K`.
 Friction laws (Eq. 2.4, 4.8, 4.9, 5.4, 5.7, 5.24) and relaxation (Eq. 5.12)
     :class:`FrictionLaw`, :class:`ConstantLaw`, :class:`DecreasingSqrtLaw`,
     :class:`IncreasingSqrtLaw`, :class:`ExponentialLaw`, :class:`ArctanExponentialLaw`,
     :class:`VenkateshLaw`, :class:`RelaxedFriction`, :func:`fit_law`, :class:`FitResult`.
+Test-rig evaluation (section 4.2.4 and 4.4), also in :mod:`friction_model.evaluation`
+    :func:`read_run`, :func:`evaluate_steady_run`, :func:`evaluate_instationary_run`,
+    :func:`evaluate_runs`, :func:`evaluate_folder`, :func:`write_outputs`,
+    :func:`find_constant_velocity_window`, :func:`mean_friction_coefficients`,
+    :class:`RunFormatError`, :class:`EvaluationResult`.
 Calibration (Table 4.6)
     :func:`calibrate_table_4_6`, :func:`table_4_6_targets`, :func:`evaluate_on_table_4_6`.
 """
@@ -30,11 +36,25 @@ from friction_model.constants import ICE, WATER, IceProperties, WaterProperties
 from friction_model.drywet import (
     BlockFriction,
     DryWetParameters,
+    element_friction_table,
     friction_table,
     real_contact_fraction,
     simulate_block,
 )
+from friction_model.drywet_law import DryWetLaw
 from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
+from friction_model.evaluation import (
+    EvaluationResult,
+    RunFormatError,
+    evaluate_folder,
+    evaluate_instationary_run,
+    evaluate_runs,
+    evaluate_steady_run,
+    find_constant_velocity_window,
+    mean_friction_coefficients,
+    read_run,
+    write_outputs,
+)
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
 from friction_model.laws import (
     ArctanExponentialLaw,
@@ -63,26 +83,38 @@ __all__ = [
     "Conditions",
     "ConstantLaw",
     "DecreasingSqrtLaw",
+    "DryWetLaw",
     "DryWetParameters",
     "Effects",
+    "EvaluationResult",
     "ExponentialLaw",
     "FitResult",
     "FrictionLaw",
     "IceProperties",
     "IncreasingSqrtLaw",
     "RelaxedFriction",
+    "RunFormatError",
     "VenkateshLaw",
     "WaterProperties",
     "calibrate_table_4_6",
     "dry_run_in_length",
+    "element_friction_table",
+    "evaluate_folder",
+    "evaluate_instationary_run",
     "evaluate_on_table_4_6",
+    "evaluate_runs",
+    "evaluate_steady_run",
+    "find_constant_velocity_window",
     "fit_law",
     "flash_temperature_rise",
     "freezing_point_depression_K",
     "friction_table",
     "initial_water_layer_m",
+    "mean_friction_coefficients",
+    "read_run",
     "real_contact_fraction",
     "reference_block",
     "simulate_block",
     "table_4_6_targets",
+    "write_outputs",
 ]

@@ -278,7 +278,7 @@ def test_table_missing_column_and_bad_row():
     with pytest.raises(ValueError, match="temperature_C"):
         friction_table(G3, pd.DataFrame({"velocity_mps": [1.0], "pressure_bar": [2.5]}))
     bad = pd.DataFrame({"velocity_mps": [1.0, -2.0], "pressure_bar": 2.5, "temperature_C": -5.0})
-    with pytest.raises(ValueError, match="row 1.*velocity_mps"):
+    with pytest.raises(ValueError, match=r"row 1.*velocity_mps"):
         friction_table(G3, bad)
 
 

@@ -118,13 +118,12 @@ def run(args: argparse.Namespace) -> int:
     result = evaluate_runs(sorted(runs_dir.glob("*.csv")), progress=False)
     write_outputs(result, out / "evaluation")
     steady = result.steady
-    runs = steady[steady["row_type"] == "run"]
-    summary = (
-        runs.groupby("velocity_mps", as_index=False)["mu_mean_method1"]
-        .mean()
-        .rename(columns={"mu_mean_method1": "mu_evaluated"})
+    runs = steady[steady["row_type"] == "run"].assign(
+        velocity_mps=lambda d: d["velocity_mps"].round(1)
     )
-    summary["velocity_mps"] = summary["velocity_mps"].round(2)
+    summary = runs.groupby("velocity_mps", as_index=False).agg(
+        mu_evaluated=("mu_mean_method1", "mean"), n_runs=("mu_mean_method1", "size")
+    )
     summary = summary.merge(pd.DataFrame(truth_rows), on="velocity_mps", how="left")
     summary["error_pct"] = 100 * (summary["mu_evaluated"] / summary["mu_true"] - 1)
     print("\nSynthetic rig runs (G3, 2.5 bar, -4 degC, 73 %), evaluated vs. truth:")

@@ -1,0 +1,400 @@
+"""Reading and validating raw test-rig run CSV files (private helper of ``evaluation``).
+
+The format (``docs/formats.md``): ``# key: value`` metadata lines, then a column header with
+at least ``time_s, velocity_mps, normal_force_N, friction_force_N`` (optionally
+``temperature_C, humidity_pct``), then one row per sample.
+
+Row numbers in error messages are given both as the 1-based data row (the first row after the
+column header is data row 1) and as the 1-based line of the file.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "OPTIONAL_COLUMNS",
+    "REQUIRED_COLUMNS",
+    "RigRun",
+    "RunFormatError",
+    "read_run",
+]
+
+logger = logging.getLogger(__name__)
+
+REQUIRED_COLUMNS = ("time_s", "velocity_mps", "normal_force_N", "friction_force_N")
+OPTIONAL_COLUMNS = ("temperature_C", "humidity_pct")
+_RUN_KINDS = ("steady", "instationary")
+
+
+class RunFormatError(ValueError):
+    """A run file that cannot be evaluated.
+
+    The message names the file, the column (or metadata key), the row and what was expected,
+    e.g. ``run_03.csv: column 'time_s', data row 17 (file line 21): ...``.
+
+    Parameters
+    ----------
+    file : str or path-like
+        The offending file.
+    detail : str
+        What is wrong, where, and what was expected (without the file name).
+    column : str, optional
+        The column or metadata key concerned.
+    row : int, optional
+        1-based data row concerned (the first sample after the column header is row 1).
+    line : int, optional
+        1-based line of the file concerned.
+
+    Attributes
+    ----------
+    file, detail, column, row, line
+        As given.
+    """
+
+    def __init__(
+        self,
+        file: str | os.PathLike[str],
+        detail: str,
+        *,
+        column: str | None = None,
+        row: int | None = None,
+        line: int | None = None,
+    ) -> None:
+        self.file = str(file)
+        self.detail = detail
+        self.column = column
+        self.row = row
+        self.line = line
+        super().__init__(f"{self.file}: {detail}")
+
+
+def _parse_float(value: str) -> float:
+    number = float(value)
+    if not math.isfinite(number):
+        raise ValueError(value)
+    return number
+
+
+# metadata keys with a type; the converter raises ValueError for a bad value
+_META_TYPES: dict[str, tuple[Any, str]] = {
+    "nominal_area_mm2": (lambda s: _check(_parse_float(s), lambda x: x > 0), "a number > 0"),
+    "inertial_mass_kg": (lambda s: _check(_parse_float(s), lambda x: x >= 0), "a number >= 0"),
+    "run": (lambda s: int(s), "an integer"),
+    "kind": (lambda s: _check(s.lower(), lambda x: x in _RUN_KINDS), "'steady' or 'instationary'"),
+}
+
+
+def _check(value: Any, rule: Any) -> Any:
+    if not rule(value):
+        raise ValueError(value)
+    return value
+
+
+@dataclass(frozen=True, eq=False)
+class RigRun:
+    """One raw test-rig run read from a CSV file.
+
+    Attributes
+    ----------
+    path : pathlib.Path
+        Source file.
+    time_s : (N,) ndarray of float
+        Sample time (s), strictly increasing.
+    velocity_mps : (N,) ndarray of float
+        Sliding velocity (m/s), positive in the sliding direction.
+    normal_force_N : (N,) ndarray of float
+        Normal force F_N (N).
+    friction_force_N : (N,) ndarray of float
+        Friction force F_F (N), positive against the motion of the sample; contains the
+        inertial force ``m * a`` of carriage and sample while accelerating.
+    temperature_C : (N,) ndarray of float or None
+        Ambient temperature (degC) when recorded.
+    humidity_pct : (N,) ndarray of float or None
+        Relative humidity (%) when recorded.
+    metadata : dict
+        ``key: value`` metadata of the file header; ``run`` is an int, ``nominal_area_mm2``
+        and ``inertial_mass_kg`` are floats, ``kind`` is lower case, every other value is the
+        stripped string.
+    header_line : int
+        1-based file line of the column header; data row ``r`` (1-based) is file line
+        ``header_line + r``.
+    """
+
+    path: Path
+    time_s: np.ndarray
+    velocity_mps: np.ndarray
+    normal_force_N: np.ndarray
+    friction_force_N: np.ndarray
+    temperature_C: np.ndarray | None = None
+    humidity_pct: np.ndarray | None = None
+    metadata: dict[str, Any] = field(default_factory=dict)
+    header_line: int = 1
+
+    def __len__(self) -> int:
+        return int(self.time_s.shape[0])
+
+    @property
+    def specimen(self) -> str:
+        """Specimen name from the metadata key ``specimen`` (empty string when absent)."""
+        return str(self.metadata.get("specimen", ""))
+
+    @property
+    def condition(self) -> str:
+        """Grouping key from the metadata key ``condition`` (empty string when absent)."""
+        return str(self.metadata.get("condition", ""))
+
+    @property
+    def run_number(self) -> int | None:
+        """Run number from the metadata key ``run`` (None when absent)."""
+        return self.metadata.get("run")
+
+    @property
+    def kind(self) -> str:
+        """``"steady"`` or ``"instationary"`` from the metadata key ``kind`` (default steady)."""
+        return str(self.metadata.get("kind", "steady"))
+
+    def where(self, index: int) -> str:
+        """Describe sample ``index`` (0-based) as data row and file line for messages."""
+        row = int(index) + 1
+        return f"data row {row} (file line {self.header_line + row})"
+
+    def error(
+        self, detail: str, *, column: str | None = None, index: int | None = None
+    ) -> RunFormatError:
+        """Build a :class:`RunFormatError` for this file at sample ``index`` (0-based)."""
+        row = None if index is None else int(index) + 1
+        line = None if row is None else self.header_line + row
+        return RunFormatError(self.path, detail, column=column, row=row, line=line)
+
+
+def _read_header(path: Path) -> tuple[dict[str, Any], list[str], int]:
+    """Metadata, column names and 1-based line of the column header."""
+    metadata: dict[str, Any] = {}
+    try:
+        with open(path, encoding="utf-8", newline="") as fh:
+            for lineno, raw in enumerate(fh, start=1):
+                text = raw.strip()
+                if not text:
+                    continue
+                if text.startswith("#"):
+                    body = text[1:].strip()
+                    if ":" not in body:
+                        continue  # free comment
+                    key, value = (s.strip() for s in body.split(":", 1))
+                    if not key:
+                        raise RunFormatError(
+                            path,
+                            f"metadata line, file line {lineno}: expected '# key: value', "
+                            f"got {text!r}",
+                            line=lineno,
+                        )
+                    if key in _META_TYPES:
+                        convert, expected = _META_TYPES[key]
+                        try:
+                            metadata[key] = convert(value)
+                        except ValueError:
+                            raise RunFormatError(
+                                path,
+                                f"metadata key '{key}', file line {lineno}: expected "
+                                f"{expected}, got {value!r}",
+                                column=key,
+                                line=lineno,
+                            ) from None
+                    else:
+                        metadata[key] = value
+                    continue
+                columns = [c.strip() for c in text.split(",")]
+                return metadata, columns, lineno
+    except UnicodeDecodeError as exc:
+        raise RunFormatError(path, f"not a UTF-8 text file ({exc.reason})") from None
+    raise RunFormatError(
+        path,
+        f"no column header found; expected a line '{', '.join(REQUIRED_COLUMNS)}' after the "
+        "'# key: value' metadata lines",
+    )
+
+
+def _diagnose_column(
+    path: Path, name: str, values: pd.Series, header_line: int
+) -> RunFormatError | None:
+    """Error for the first NaN or non-numeric entry of a column read as text, or None."""
+    numeric = pd.to_numeric(values, errors="coerce")
+    bad = np.flatnonzero(numeric.isna().to_numpy() | ~np.isfinite(numeric.to_numpy(float)))
+    if bad.size == 0:
+        return None
+    i = int(bad[0])
+    raw = values.iloc[i]
+    got = "an empty field / NaN" if pd.isna(raw) else repr(str(raw))
+    row = i + 1
+    return RunFormatError(
+        path,
+        f"column '{name}', data row {row} (file line {header_line + row}): expected a finite "
+        f"number, got {got}",
+        column=name,
+        row=row,
+        line=header_line + row,
+    )
+
+
+def read_run(path: str | os.PathLike[str]) -> RigRun:
+    """Read and validate one raw test-rig run CSV.
+
+    Parameters
+    ----------
+    path : str or path-like
+        CSV file: ``# key: value`` metadata lines, a column header, one row per sample.
+
+    Returns
+    -------
+    RigRun
+        The arrays (SI units, see :class:`RigRun`) and the metadata.
+
+    Raises
+    ------
+    RunFormatError
+        For a missing required column, an empty or NaN or non-numeric value in a used
+        column, time that does not increase strictly, a malformed metadata value or no data.
+        The message names the file, the column and the row.
+    OSError
+        When the file cannot be opened.
+
+    Notes
+    -----
+    Columns other than the six known ones are ignored. Trailing empty lines are allowed;
+    an empty line between data rows is reported as missing values of that row.
+    """
+    path = Path(path)
+    metadata, columns, header_line = _read_header(path)
+    for name in REQUIRED_COLUMNS:
+        if name not in columns:
+            raise RunFormatError(
+                path,
+                f"column '{name}' missing from the column header (file line {header_line}); "
+                f"expected columns {', '.join(REQUIRED_COLUMNS)} (optional "
+                f"{', '.join(OPTIONAL_COLUMNS)}), found {', '.join(columns)}",
+                column=name,
+                line=header_line,
+            )
+    duplicates = sorted({c for c in columns if columns.count(c) > 1})
+    if duplicates:
+        raise RunFormatError(
+            path,
+            f"column '{duplicates[0]}' appears more than once in the column header (file line "
+            f"{header_line}); expected unique column names",
+            column=duplicates[0],
+            line=header_line,
+        )
+    used = [c for c in (*REQUIRED_COLUMNS, *OPTIONAL_COLUMNS) if c in columns]
+    # The C parser converts fields with surrounding blanks itself; passing the stripped names
+    # avoids the slower skipinitialspace option, and usecols (also slower) is only needed
+    # when the file has columns of its own.
+    options: dict[str, Any] = {
+        "skiprows": header_line - 1,
+        "header": 0,
+        "names": columns,
+        "engine": "c",
+        "skip_blank_lines": False,
+    }
+    if len(used) < len(columns):
+        options["usecols"] = used
+    try:
+        try:
+            frame = pd.read_csv(path, dtype=dict.fromkeys(used, np.float64), **options)
+        except ValueError as exc:
+            if isinstance(exc, pd.errors.ParserError):
+                raise
+            # a non-numeric entry: read as text to find where it is
+            text = pd.read_csv(path, dtype=dict.fromkeys(used, str), **options)
+            text = _drop_trailing_blank(text)
+            for name in used:
+                err = _diagnose_column(path, name, text[name], header_line)
+                if err is not None:
+                    raise err from None
+            raise RunFormatError(path, f"unreadable numbers ({exc})") from None
+    except pd.errors.ParserError as exc:
+        found = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
+        if found is None:
+            raise RunFormatError(
+                path, f"malformed CSV after the column header (file line {header_line}): {exc}"
+            ) from None
+        expected, line, saw = (int(g) for g in found.groups())
+        row = line - header_line
+        raise RunFormatError(
+            path,
+            f"malformed CSV, data row {row} (file line {line}): expected {expected} fields "
+            f"like the column header (file line {header_line}), got {saw}",
+            row=row,
+            line=line,
+        ) from None
+    except UnicodeDecodeError as exc:
+        raise RunFormatError(path, f"not a UTF-8 text file ({exc.reason})") from None
+    frame = _drop_trailing_blank(frame)
+    if len(frame) < 2:
+        raise RunFormatError(
+            path,
+            f"column '{REQUIRED_COLUMNS[0]}': expected at least 2 data rows after the column "
+            f"header (file line {header_line}), got {len(frame)}",
+            column=REQUIRED_COLUMNS[0],
+            line=header_line,
+        )
+    arrays: dict[str, np.ndarray] = {}
+    for name in used:
+        values = frame[name].to_numpy(dtype=np.float64, copy=False)
+        finite = np.isfinite(values)
+        if not finite.all():
+            i = int(np.flatnonzero(~finite)[0])
+            got = "an empty field / NaN" if np.isnan(values[i]) else repr(float(values[i]))
+            row = i + 1
+            raise RunFormatError(
+                path,
+                f"column '{name}', data row {row} (file line {header_line + row}): expected a "
+                f"finite number, got {got}",
+                column=name,
+                row=row,
+                line=header_line + row,
+            )
+        arrays[name] = values
+    t = arrays["time_s"]
+    steps = np.diff(t)
+    if not (steps > 0).all():
+        i = int(np.flatnonzero(~(steps > 0))[0]) + 1
+        row = i + 1
+        raise RunFormatError(
+            path,
+            f"column 'time_s', data row {row} (file line {header_line + row}): time must "
+            f"increase strictly, got {float(t[i])!r} s after {float(t[i - 1])!r} s",
+            column="time_s",
+            row=row,
+            line=header_line + row,
+        )
+    logger.debug("read %s: %d samples, metadata %s", path, t.size, metadata)
+    return RigRun(
+        path=path,
+        time_s=t,
+        velocity_mps=arrays["velocity_mps"],
+        normal_force_N=arrays["normal_force_N"],
+        friction_force_N=arrays["friction_force_N"],
+        temperature_C=arrays.get("temperature_C"),
+        humidity_pct=arrays.get("humidity_pct"),
+        metadata=metadata,
+        header_line=header_line,
+    )
+
+
+def _drop_trailing_blank(frame: pd.DataFrame) -> pd.DataFrame:
+    """Drop all-empty rows at the end (trailing empty lines of the file)."""
+    empty = frame.isna().all(axis=1).to_numpy()
+    if not empty.any() or not empty[-1]:
+        return frame
+    keep = len(empty) - int(np.argmin(empty[::-1])) if not empty.all() else 0
+    return frame.iloc[:keep]

@@ -1,0 +1,150 @@
+"""``tir-contact evaluate``: friction coefficients from raw test-rig runs.
+
+Usage::
+
+    tir-contact evaluate PATH... --out DIR [--instationary] [--mass-kg M] [--bin-width 0.25]
+                         [--no-plots] [--no-progress]
+
+PATH is a run CSV file or a folder of them (all ``*.csv`` in natural sort order). Writes
+``steady_characteristic.csv``, ``ambient.csv``, ``instationary_characteristic.csv`` (when
+there are instationary runs), ``provenance.json`` and PNG plots to DIR; prints a summary to
+stdout and one ``file: message`` line per failed file to stderr. Exit code 0 when every file
+was evaluated, 1 when any failed (everything that succeeded is still written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return value
+
+
+def _non_negative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
+    return value
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Register the ``evaluate`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        From ``parser.add_subparsers()``.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The sub-command's parser (its ``func`` default is :func:`run`).
+    """
+    parser = subparsers.add_parser(
+        "evaluate",
+        help="evaluate raw test-rig runs (steady and instationary friction coefficients)",
+        description=(
+            "Evaluate raw test-rig run CSVs: constant-velocity window, mean friction "
+            "coefficient by both methods, mean and std over repeated runs, ambient averages, "
+            "instationary mu(v) with the carriage inertia removed."
+        ),
+    )
+    parser.add_argument(
+        "paths", nargs="+", metavar="PATH", help="run CSV files or folders of *.csv files"
+    )
+    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    parser.add_argument(
+        "--instationary",
+        action="store_true",
+        help="evaluate every run as instationary (default: per file, metadata 'kind')",
+    )
+    parser.add_argument(
+        "--mass-kg",
+        type=_non_negative_float,
+        default=None,
+        metavar="M",
+        help="inertial mass of carriage and sample in kg (default: metadata inertial_mass_kg)",
+    )
+    parser.add_argument(
+        "--bin-width",
+        type=_positive_float,
+        default=0.25,
+        metavar="W",
+        help="velocity bin width of the instationary characteristic in m/s (default: 0.25)",
+    )
+    parser.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.set_defaults(func=run)
+    return parser
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``tir-contact evaluate``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments of the parser from :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0 when every file was evaluated, 1 when any failed (or a folder held no ``*.csv``).
+    """
+    import pandas as pd
+
+    from friction_model.evaluation import InstationaryParams, evaluate_folder
+
+    result = evaluate_folder(
+        args.paths,
+        args.out,
+        instationary=args.instationary,
+        inertial_mass_kg=args.mass_kg,
+        instationary_params=InstationaryParams(bin_width_mps=args.bin_width),
+        plots=not args.no_plots,
+        progress=False if args.no_progress else None,
+    )
+    n_steady, n_inst = len(result.steady_runs), len(result.instationary_runs)
+    print(
+        f"evaluated {n_steady} steady and {n_inst} instationary runs, "
+        f"{len(result.failures)} failed; outputs in {args.out}"
+    )
+    if n_steady:
+        agg = result.steady[result.steady["row_type"] == "aggregate"]
+        summary = pd.DataFrame(
+            {
+                "specimen": agg["specimen"],
+                "condition": agg["condition"],
+                "v [m/s]": agg["velocity_mps"].map("{:.3f}".format),
+                "mu (method 1)": agg["mu_mean_method1"].map("{:.4f}".format),
+                "mu (method 2)": agg["mu_mean_method2"].map("{:.4f}".format),
+                "std over runs": agg["mu_std_runs"].map("{:.4f}".format),
+                "runs": agg["n_runs"],
+            }
+        )
+        print(summary.to_string(index=False))
+    for r in result.instationary_runs:
+        counts = r.table["branch"].value_counts()
+        print(
+            f"instationary {r.file}: m = {r.inertial_mass_kg:g} kg, "
+            f"{counts.get('accelerating', 0)} accelerating and "
+            f"{counts.get('decelerating', 0)} decelerating bins"
+        )
+    for failure in result.failures:
+        print(f"{failure.file}: {failure.message}", file=sys.stderr)
+    return 0 if result.ok and result.files else 1
