@@ -1,0 +1,196 @@
+"""Shared pieces of the tread-block dynamics: input profiles, results, friction evaluation.
+
+Conventions for every model in :mod:`friction_model.dynamics`:
+
+* SI units inside; time in s, lengths in m, angles in rad; result columns carry units in
+  their names (``time_s``, ``angle_deg``, ``tip_deflection_mm``, ``normal_force_N``).
+* Inputs are callables of time: the sliding velocity ``v0(t)`` in m/s
+  (:func:`constant_velocity`, :func:`velocity_step`, :func:`velocity_ramp`) and the preload
+  distance ``y0(t)`` in m (:func:`constant_preload`, :func:`surface_profile`).
+* Friction: any object with ``mu(v_rel_mps, *, pressure_Pa=None, temperature_C=None)``
+  (:mod:`friction_model.laws`, :class:`friction_model.DryWetLaw`); a
+  :class:`friction_model.laws.RelaxedFriction` adds the state mu_R of Eq. 5.12.
+* Every model returns a :class:`SimulationResult`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike
+
+__all__ = [
+    "Profile",
+    "SimulationError",
+    "SimulationResult",
+    "check_in_range",
+    "constant_preload",
+    "constant_velocity",
+    "surface_profile",
+    "velocity_ramp",
+    "velocity_step",
+]
+
+Profile = Callable[[float], float]
+
+
+class SimulationError(RuntimeError):
+    """An integration that diverged or failed; the message says at which time and why."""
+
+
+def check_in_range(name: str, value: float, low: float, high: float, *, unit: str = "") -> float:
+    """Validate a model parameter before integration (ValueError names it and the range)."""
+    value = float(value)
+    if not math.isfinite(value) or not (low <= value <= high):
+        u = f" {unit}" if unit else ""
+        raise ValueError(f"{name} must lie in [{low:g}, {high:g}]{u}, got {name}={value!r}")
+    return value
+
+
+def constant_velocity(v_mps: float) -> Profile:
+    """v0(t) = v_mps for all t.
+
+    Examples
+    --------
+    >>> constant_velocity(2.0)(0.3)
+    2.0
+    """
+    v = float(v_mps)
+    return lambda t: v
+
+
+def velocity_step(v1_mps: float, v2_mps: float, t_step_s: float, *, rise_s: float = 0.0) -> Profile:
+    """v0 = v1 before ``t_step_s``, v2 after; a linear change over ``rise_s`` if > 0 (Fig. 5.7).
+
+    Examples
+    --------
+    >>> f = velocity_step(1.0, 3.0, 0.2, rise_s=0.02)
+    >>> f(0.1), f(0.21), f(0.5)
+    (1.0, 2.0, 3.0)
+    """
+    v1, v2, ts, rs = float(v1_mps), float(v2_mps), float(t_step_s), float(rise_s)
+
+    def v0(t: float) -> float:
+        if t < ts:
+            return v1
+        if rs <= 0.0 or t >= ts + rs:
+            return v2
+        return v1 + (v2 - v1) * (t - ts) / rs
+
+    return v0
+
+
+def velocity_ramp(v_start_mps: float, v_end_mps: float, t0_s: float, t1_s: float) -> Profile:
+    """Linear ramp from v_start (before t0) to v_end (after t1).
+
+    Examples
+    --------
+    >>> velocity_ramp(0.0, 2.0, 0.0, 1.0)(0.25)
+    0.5
+    """
+    if t1_s <= t0_s:
+        raise ValueError(f"t1_s must be > t0_s, got t0_s={t0_s!r}, t1_s={t1_s!r}")
+    return velocity_step(v_start_mps, v_end_mps, t0_s, rise_s=t1_s - t0_s)
+
+
+def constant_preload(y0_m: float) -> Profile:
+    """y0(t) = y0_m for all t (the preload distance of Eq. 5.2)."""
+    y0 = float(y0_m)
+    return lambda t: y0
+
+
+def surface_profile(
+    y0_m: float,
+    heights_m: ArrayLike,
+    positions_m: ArrayLike,
+    velocity: Profile,
+    *,
+    t_max_s: float,
+    dt_s: float = 1e-5,
+) -> Profile:
+    """Preload distance over a rough surface: ``y0(t) = y0_m - z(s(t))``.
+
+    ``z(s)`` is the surface height at travelled distance ``s(t) = int_0^t v0 dt`` (linear
+    interpolation in the given samples, outside them 0); a bump (z > 0) pushes the element
+    up, i.e. reduces the preload distance (Fig. 5.6).
+
+    Parameters
+    ----------
+    y0_m : float
+        Preload distance on a flat surface, m.
+    heights_m, positions_m : array_like
+        Surface height samples z (m) at distances s (m), s increasing.
+    velocity : callable
+        v0(t), m/s.
+    t_max_s, dt_s : float
+        Time span and step of the tabulated s(t).
+    """
+    s_pos = np.asarray(positions_m, dtype=float)
+    z = np.asarray(heights_m, dtype=float)
+    if s_pos.ndim != 1 or s_pos.shape != z.shape or np.any(np.diff(s_pos) <= 0):
+        raise ValueError("positions_m must be 1-D, increasing and as long as heights_m")
+    t = np.arange(0.0, t_max_s + 2 * dt_s, dt_s)
+    v = np.array([velocity(ti) for ti in t])
+    s = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * dt_s)])
+    y0 = float(y0_m)
+
+    def y0_of_t(tt: float) -> float:
+        si = float(np.interp(tt, t, s))
+        return y0 - float(np.interp(si, s_pos, z, left=0.0, right=0.0))
+
+    return y0_of_t
+
+
+@dataclass
+class SimulationResult:
+    """Outcome of a tread-block simulation.
+
+    Attributes
+    ----------
+    data : pandas.DataFrame
+        Tidy time series: one row per time and element with at least ``time_s``,
+        ``element`` and ``angle_deg``; models add ``tip_deflection_mm``,
+        ``normal_force_N``, ``friction_force_N``, ``v_rel_mps``, ``mu``, ...
+    fields : dict of str to ndarray
+        Field outputs (e.g. ``x_m`` (n_x,), ``r_m`` and ``phi_rad`` (n_t, n_x)).
+    meta : dict
+        Model name, parameters, solver statistics.
+    """
+
+    data: pd.DataFrame
+    fields: dict[str, np.ndarray] = field(default_factory=dict)
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def steady(self, column: str = "angle_deg", *, last_fraction: float = 0.2) -> pd.Series:
+        """Mean of ``column`` per element over the last ``last_fraction`` of the time span."""
+        t = self.data["time_s"]
+        t_from = t.max() - last_fraction * (t.max() - t.min())
+        return self.data[t >= t_from].groupby("element")[column].mean()
+
+    def plot(self, column: str = "angle_deg", ax=None):
+        """``column`` over time, one line per element (the usual deflection-angle figure).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            fig, ax = plt.subplots(figsize=(7, 3.8))
+        else:
+            fig = ax.figure
+        for element, g in self.data.groupby("element"):
+            ax.plot(g["time_s"], g[column], label=f"element {element}")
+        ax.set_xlabel("time / s")
+        ax.set_ylabel(column.replace("_", " "))
+        if self.data["element"].nunique() > 1:
+            ax.legend(fontsize=8)
+        ax.set_title(str(self.meta.get("model", "")))
+        fig.tight_layout()
+        return fig
