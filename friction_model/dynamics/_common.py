@@ -70,7 +70,7 @@ def velocity_step(v1_mps: float, v2_mps: float, t_step_s: float, *, rise_s: floa
     Examples
     --------
     >>> f = velocity_step(1.0, 3.0, 0.2, rise_s=0.02)
-    >>> f(0.1), f(0.21), f(0.5)
+    >>> f(0.1), round(f(0.21), 12), f(0.5)
     (1.0, 2.0, 3.0)
     """
     v1, v2, ts, rs = float(v1_mps), float(v2_mps), float(t_step_s), float(rise_s)
