@@ -118,6 +118,7 @@ class MarchOutput:
     film: np.ndarray  # film thickness at the end of the cell, m
     flux: np.ndarray  # heat flux into the ice, W/m^2
     theta: np.ndarray  # surface temperature rise at the end of the cell, K
+    run_in_part: np.ndarray  # contiguous dry fraction from the cell start (run-in)
     heating_length: np.ndarray  # (n_c, n_elements) where the surface first melts, m
     entry_theta: np.ndarray  # (n_c, n_elements) surface temperature rise at entry, K
 
@@ -175,6 +176,7 @@ def march(grid: Grid, inp: MarchInput) -> MarchOutput:
         film=np.zeros((n_c, N)),
         flux=q,
         theta=np.zeros((n_c, N)),
+        run_in_part=np.zeros((n_c, N)),
         heating_length=np.full((n_c, len(grid.element_starts)), np.nan),
         entry_theta=np.zeros((n_c, len(grid.element_starts))),
     )
@@ -227,6 +229,15 @@ def march(grid: Grid, inp: MarchInput) -> MarchOutput:
         q_hold = np.clip((dT - hist) / w_last, 0.0, None)
         rem = 1.0 - f_below  # fraction of the cell at the melting point
         dt_rem = rem * dt
+        # flux into the ice during the part at the melting point: the cell's mean flux is
+        # q_hold, of which the part below melting already took q_dry for f_below of the time
+        has_rem = rem > 1e-12
+        q_rem = np.where(
+            has_rem,
+            np.divide(q_hold - f_below * q_dry, rem, out=q_hold.copy(), where=has_rem),
+            q_hold,
+        )
+        q_rem = np.clip(q_rem, 0.0, None)
         tau_w = inp.boundary_shear + inp.viscous_strength * inp.viscosity * v / np.maximum(
             h, inp.critical_film
         )
@@ -237,7 +248,7 @@ def march(grid: Grid, inp: MarchInput) -> MarchOutput:
         # phase 1, dry and melting (film thinner than critical): the heat surplus over the
         # conduction loss melts ice until the film reaches h_c, at the sub-cell time t_need
         melting = at_melt & (h < inp.critical_film)
-        surplus = q_dry - q_hold
+        surplus = q_dry - q_rem
         lost = melting & (surplus < 0)  # cannot stay at the melting point: dry again
         t_need = (inp.critical_film - h) * a / np.maximum(surplus, 1e-300)
         t_need = np.clip(t_need, 0.0, dt_rem)
@@ -254,10 +265,18 @@ def march(grid: Grid, inp: MarchInput) -> MarchOutput:
         wet = at_melt & ~lost & (g < 1.0)
         if np.any(wet):
             dt_w = (1.0 - g) * dt_rem
-            b = a * h + (K * inp.boundary_shear * v - q_hold) * dt_w
+            b = a * h + (K * inp.boundary_shear * v - q_rem) * dt_w
             c = K * inp.viscous_strength * inp.viscosity * v**2 * dt_w
             disc = np.sqrt(b * b + 4.0 * a * c)
             h_new = np.where(c > 0, (b + disc) / (2.0 * a), b / a)
+            # where the wet stress would exceed mu_dry p it is capped there, and so is its
+            # heat: then the balance is linear in h'
+            capped = (
+                inp.boundary_shear
+                + inp.viscous_strength * inp.viscosity * v / np.maximum(h_new, 1e-300)
+                > tau_dry_full
+            )
+            h_new = np.where(capped, h + (q_dry - q_rem) * dt_w / a, h_new)
             keeps = wet & (h_new >= inp.critical_film)
             h = np.where(keeps, h_new, h)
             tau_w = np.where(
@@ -278,7 +297,7 @@ def march(grid: Grid, inp: MarchInput) -> MarchOutput:
                     + inp.viscous_strength * inp.viscosity * v / inp.critical_film,
                     tau_dry_full,
                 )
-                need = q_hold / (K * v)
+                need = q_rem / (K * v)
                 span = np.maximum(tau_dry_full - tau_c, 1e-30)
                 phi = np.clip((need - tau_c) / span, 0.0, 1.0)
                 lost2 = collapse & (need > tau_dry_full)
@@ -289,6 +308,8 @@ def march(grid: Grid, inp: MarchInput) -> MarchOutput:
                 lost = lost | lost2
 
         dry_frac = f_below + rem * dry_in_rem
+        # contiguous dry part from the cell start: below melting, then dry melting (g)
+        out.run_in_part[:, k] = np.where(lost, 1.0, f_below + rem * g)
         wet_frac = 1.0 - dry_frac
         visc = np.minimum(
             inp.viscous_strength * inp.viscosity * v / np.maximum(h, 1e-12),

@@ -346,14 +346,16 @@ def _element_tables(
             wet_len > 0, ((1.0 - dry) * res.film[:, s:e]) @ d / np.maximum(wet_len, 1e-30), 0.0
         )
         out["film_end_m"][:, i] = res.film[:, e - 1]
-        # run-in: the contiguous dry length from the leading edge
-        wet_cells = dry < 1.0 - 1e-12
-        first = np.where(wet_cells.any(axis=1), wet_cells.argmax(axis=1), e - s)
+        # run-in: the contiguous dry length from the leading edge (heating, then melting
+        # the first film up to h_c); dry patches further back do not count
+        part = res.run_in_part[:, s:e]
+        ends = part < 1.0 - 1e-12
+        first = np.where(ends.any(axis=1), ends.argmax(axis=1), e - s)
         x_rel = grid.nodes_m[s : e + 1] - grid.nodes_m[s]
         run_in = np.empty(n_c)
         for c in range(n_c):
             j = first[c]
-            run_in[c] = x_rel[j] + (dry[c, j] * d[j] if j < e - s else 0.0)
+            run_in[c] = x_rel[j] + (part[c, j] * d[j] if j < e - s else 0.0)
         out["run_in_length_m"][:, i] = run_in
     lengths = geometry.element_lengths * 1e-3
     return lengths, out
@@ -380,8 +382,8 @@ class BlockFriction:
         contact_fraction, pressure_local_Pa, melting_point_C, run_in_force_N, regime``.
     profile : pandas.DataFrame
         Per cell: ``x_mm`` (cell centre behind the block's leading edge), ``element``
-        (-1 in a sipe), ``shear_stress_Pa``, ``dry_fraction``, ``film_um``,
-        ``surface_temperature_C``.
+        (-1 in a sipe), ``shear_stress_Pa``, ``dry_fraction``, ``film_um`` (at the cell end),
+        ``x_end_mm`` (cell end) and ``surface_temperature_C`` (ice surface at the cell end).
     """
 
     conditions: Conditions
@@ -625,6 +627,7 @@ def simulate_block(
             "shear_stress_Pa": res.tau[0],
             "dry_fraction": res.dry_fraction[0],
             "film_um": res.film[0] * 1e6,
+            "x_end_mm": grid.nodes_m[1:] * 1e3,
             "surface_temperature_C": conditions.temperature_C + res.theta[0],
         }
     )

@@ -52,7 +52,8 @@ class Effects:
     ----------
     humidity_water_layer, salinity_melting_point, ice_preheating, viscous_shear : float
         Strength of each effect, >= 0 (0 = off, 1 = full physics). ``ice_preheating`` must
-        lie in [0, 1] (a fraction of the heat history carried to the next element).
+        lie in [0, 1]: the factor on the whole heat history that each element meets (the
+        heat of all elements ahead of it, scaled once, not compounded per element).
 
     Examples
     --------

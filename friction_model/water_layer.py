@@ -6,7 +6,8 @@ Sections 4.5.1 and 4.5.2 of the thesis state the trends but no formula; the choi
   the layer exchanged with humid air: ``h0 = h_qll * (1 K / dT)^(1/3) * (1 + g * rH/100)``.
   The exponent 1/3 is the growth law of a premelted layer held by van-der-Waals forces
   (Dash et al.); ``g`` (``humidity_gain``) scales the humidity part
-  (effect ``humidity_water_layer``). Both ``h_qll`` and ``g`` are calibrated.
+  (effect ``humidity_water_layer``). Neither ``h_qll`` nor ``g`` is fitted (Table 4.6
+  cannot separate humidity from temperature); see :class:`DryWetParameters`.
 * Melting point of saline ice: the surface brine is richer in salt than the bulk water the
   ice was frozen from (salt is rejected from the growing ice lattice), by the factor
   ``salt_enrichment``; the freezing-point depression of the surface brine is interpolated in
