@@ -9,10 +9,11 @@ have its own friction from the ice preheating of Fig. 4.25.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
-from scipy.interpolate import RegularGridInterpolator
 
 from friction_model.drywet import DryWetParameters, element_friction_table, friction_table
 from friction_model.geometry import BlockGeometry
@@ -104,9 +105,9 @@ class DryWetLaw:
             mu = friction_table(geometry, table, self.params)["mu"].to_numpy()
         else:
             mu = element_friction_table(geometry, table, self.params)[:, element]
-        self._interp = RegularGridInterpolator(
-            (self._log_v, self._log_p), mu.reshape(vv.shape), bounds_error=False, fill_value=None
-        )
+        self._table = mu.reshape(vv.shape)
+        self._dlv = self._log_v[1] - self._log_v[0]
+        self._dlp = self._log_p[1] - self._log_p[0]
 
     def mu(
         self,
@@ -127,12 +128,37 @@ class DryWetLaw:
                 f"this DryWetLaw is tabulated at temperature_C={self.temperature_C}; got "
                 f"temperature_C={temperature_C!r} (build one law per temperature)"
             )
+        if pressure_Pa is None and np.ndim(v_rel_mps) == 0:
+            return self._scalar(abs(float(v_rel_mps)), 2.5e5)
+        if np.ndim(v_rel_mps) == 0 and np.ndim(pressure_Pa) == 0:
+            return self._scalar(abs(float(v_rel_mps)), float(pressure_Pa))
         v = np.abs(np.asarray(v_rel_mps, dtype=float))
         p = np.asarray(2.5e5 if pressure_Pa is None else pressure_Pa, dtype=float)
         v, p = np.broadcast_arrays(v, p)
         lv = np.clip(np.log(np.maximum(v, 1e-300)), self._log_v[0], self._log_v[-1])
         lp = np.clip(np.log(np.maximum(p, 1e-300)), self._log_p[0], self._log_p[-1])
-        out = self._interp(np.stack([lv.ravel(), lp.ravel()], axis=-1)).reshape(v.shape)
-        return float(out) if out.ndim == 0 else out
+        fi = np.minimum((lv - self._log_v[0]) / self._dlv, len(self._log_v) - 1 - 1e-9)
+        fj = np.minimum((lp - self._log_p[0]) / self._dlp, len(self._log_p) - 1 - 1e-9)
+        i, j = fi.astype(int), fj.astype(int)
+        a, b = fi - i, fj - j
+        T = self._table
+        out = (1 - a) * ((1 - b) * T[i, j] + b * T[i, j + 1]) + a * (
+            (1 - b) * T[i + 1, j] + b * T[i + 1, j + 1]
+        )
+        return out
+
+    def _scalar(self, v: float, p: float) -> float:
+        """Bilinear lookup for scalar input (the hot path inside ODE right-hand sides)."""
+        lv = min(max(math.log(max(v, 1e-300)), self._log_v[0]), self._log_v[-1])
+        lp = min(max(math.log(max(p, 1e-300)), self._log_p[0]), self._log_p[-1])
+        fi = min((lv - self._log_v[0]) / self._dlv, len(self._log_v) - 1 - 1e-9)
+        fj = min((lp - self._log_p[0]) / self._dlp, len(self._log_p) - 1 - 1e-9)
+        i, j = int(fi), int(fj)
+        a, b = fi - i, fj - j
+        T = self._table
+        return float(
+            (1 - a) * ((1 - b) * T[i, j] + b * T[i, j + 1])
+            + a * ((1 - b) * T[i + 1, j] + b * T[i + 1, j + 1])
+        )
 
     __call__ = mu

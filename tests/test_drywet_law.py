@@ -57,3 +57,10 @@ def test_bad_input(law):
         DryWetLaw(G3, temperature_C=-5.0, element=4)
     with pytest.raises(ValueError, match="temperature_C"):
         law(1.0, temperature_C=-3.0)
+
+
+def test_scalar_fast_path_equals_array_path(law):
+    v, p = random_points(20, seed=3)
+    scalar = [law(a, pressure_Pa=b) for a, b in zip(v, p, strict=True)]
+    assert_allclose(scalar, law(v, pressure_Pa=p), rtol=1e-12)
+    assert law(2.0) == pytest.approx(float(law(np.array([2.0]))[0]), rel=1e-12)
