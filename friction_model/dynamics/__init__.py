@@ -1,4 +1,25 @@
-"""Tread-block dynamics (chapter 5): rigid-body oscillators, Euler-Bernoulli, Timoshenko."""
+"""Tread-block dynamics (chapter 5): rigid-body oscillators, Euler-Bernoulli, Timoshenko.
+
+Public API
+----------
+Inputs and results
+    :func:`constant_velocity`, :func:`velocity_step`, :func:`velocity_ramp`,
+    :func:`constant_preload`, :func:`surface_profile`, :class:`SimulationResult`,
+    :class:`SimulationError`.
+Rigid bodies (section 5.1)
+    :class:`SdofParams`, :func:`simulate_sdof`, :class:`BlockParams`,
+    :func:`simulate_block_dynamics`, :func:`element_surface_profiles`.
+Euler-Bernoulli beam (section 5.2)
+    :class:`EulerBernoulliParams`, :func:`simulate_euler_bernoulli`,
+    :func:`eb_natural_frequencies`.
+Timoshenko beam (section 5.3)
+    :class:`TimoshenkoParams`, :func:`simulate_timoshenko`, :func:`static_tip_deflection`,
+    :func:`natural_frequencies_timoshenko`, :func:`fdm_natural_frequencies`,
+    :func:`lever_arm`, :func:`preload_for_normal_force`, :func:`cowper_shear_coefficient`.
+Contact ratio and sweeps
+    :func:`reference_contact_ratios`, :func:`run_sweep`, :func:`parameter_grid`,
+    :func:`timoshenko_point`, :func:`dry_wet_point`.
+"""
 
 from friction_model.dynamics._common import (
     SimulationError,
@@ -9,13 +30,63 @@ from friction_model.dynamics._common import (
     velocity_ramp,
     velocity_step,
 )
+from friction_model.dynamics.contact import reference_contact_ratios
+from friction_model.dynamics.euler_bernoulli import (
+    EulerBernoulliParams,
+    eb_natural_frequencies,
+    simulate_euler_bernoulli,
+)
+from friction_model.dynamics.rigid import (
+    BlockParams,
+    SdofParams,
+    element_surface_profiles,
+    simulate_block_dynamics,
+    simulate_sdof,
+)
+from friction_model.dynamics.sweep import (
+    dry_wet_point,
+    parameter_grid,
+    run_sweep,
+    timoshenko_point,
+)
+from friction_model.dynamics.timoshenko import (
+    TimoshenkoParams,
+    cowper_shear_coefficient,
+    fdm_natural_frequencies,
+    lever_arm,
+    natural_frequencies_timoshenko,
+    preload_for_normal_force,
+    simulate_timoshenko,
+    static_tip_deflection,
+)
 
 __all__ = [
+    "BlockParams",
+    "EulerBernoulliParams",
+    "SdofParams",
     "SimulationError",
     "SimulationResult",
+    "TimoshenkoParams",
     "constant_preload",
     "constant_velocity",
+    "cowper_shear_coefficient",
+    "dry_wet_point",
+    "eb_natural_frequencies",
+    "element_surface_profiles",
+    "fdm_natural_frequencies",
+    "lever_arm",
+    "natural_frequencies_timoshenko",
+    "parameter_grid",
+    "preload_for_normal_force",
+    "reference_contact_ratios",
+    "run_sweep",
+    "simulate_block_dynamics",
+    "simulate_euler_bernoulli",
+    "simulate_sdof",
+    "simulate_timoshenko",
+    "static_tip_deflection",
     "surface_profile",
+    "timoshenko_point",
     "velocity_ramp",
     "velocity_step",
 ]

@@ -12,6 +12,7 @@ import logging
 import os
 from collections.abc import Callable, Iterable, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from functools import lru_cache
 from itertools import product
 from typing import Any
 
@@ -19,7 +20,83 @@ import pandas as pd
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["dry_wet_point", "parameter_grid", "run_sweep"]
+__all__ = ["dry_wet_point", "parameter_grid", "run_sweep", "table_4_6_eq_5_24", "timoshenko_point"]
+
+
+@lru_cache(maxsize=1)
+def table_4_6_eq_5_24():
+    """Eq. 5.24 fitted to the cold/dry 2.5 bar characteristic of Table 4.6 (k4 = 50 s/m).
+
+    Returns
+    -------
+    friction_model.laws.ArctanExponentialLaw
+    """
+    from friction_model.calibration import table_4_6_targets
+    from friction_model.laws import ArctanExponentialLaw, fit_law
+
+    rows = table_4_6_targets()
+    rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
+    return fit_law(
+        ArctanExponentialLaw, rows["velocity_mps"], rows["mu_target"], fixed={"k4": 50.0}
+    ).law
+
+
+def timoshenko_point(
+    *,
+    velocity_mps: float,
+    pressure_bar: float,
+    E_MPa: float,
+    t_end_s: float = 0.05,
+    kelvin_voigt_s: float = 1e-3,
+    n_nodes: int = 40,
+) -> dict[str, Any]:
+    """Steady state of one Timoshenko element (G3 element, Eq. 5.24 from Table 4.6).
+
+    A picklable function for :func:`run_sweep`. The preload distance is set so that the
+    undeflected element carries ``pressure_bar`` on its face; G = E/3, c_N = E A / d.
+
+    Returns
+    -------
+    dict
+        ``tip_deflection_mm, tip_slope_deg, bending_angle_deg, normal_force_N, mu,
+        steps, wall_time_s`` (means over the last 20 % of the run).
+    """
+    from friction_model.dynamics.timoshenko import (
+        TimoshenkoParams,
+        preload_for_normal_force,
+        simulate_timoshenko,
+    )
+
+    E = E_MPa * 1e6
+    probe = TimoshenkoParams(
+        E_Pa=E, density_kg_m3=1150.0, kelvin_voigt_s=kelvin_voigt_s, contact_stiffness_N_m=1.0
+    )
+    params = TimoshenkoParams(
+        E_Pa=E,
+        density_kg_m3=1150.0,
+        kelvin_voigt_s=kelvin_voigt_s,
+        contact_stiffness_N_m=E * probe.area_m2 / probe.height_m,
+        n_nodes=n_nodes,
+    )
+    y0 = preload_for_normal_force(params, pressure_bar * 1e5 * params.area_m2)
+    res = simulate_timoshenko(
+        params,
+        velocity=velocity_mps,
+        preload=y0,
+        friction=table_4_6_eq_5_24(),
+        t_end_s=t_end_s,
+        n_output=201,
+    )
+    steady = res.data[res.data["time_s"] >= 0.8 * t_end_s].mean(numeric_only=True)
+    return {
+        "tip_deflection_mm": float(steady["tip_deflection_mm"]),
+        "tip_slope_deg": float(steady["angle_deg"]),
+        "bending_angle_deg": float(steady["bending_angle_deg"]),
+        "normal_force_N": float(steady["normal_force_N"]),
+        "mu": float(steady["mu"]),
+        "steps": int(res.meta.get("n_steps", -1)),
+        "wall_time_s": float(res.meta.get("wall_time_s", float("nan"))),
+    }
 
 
 def dry_wet_point(
