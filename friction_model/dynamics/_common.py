@@ -194,3 +194,42 @@ class SimulationResult:
         ax.set_title(str(self.meta.get("model", "")))
         fig.tight_layout()
         return fig
+
+    def plot_shapes(self, times_s=None, ax=None):
+        """Deformed shapes r(x) of a beam model at chosen times (needs ``fields`` with
+        ``x_m``, ``t_s`` and ``r_m``, as the Timoshenko model returns).
+
+        Parameters
+        ----------
+        times_s : sequence of float, optional
+            Times to draw, s; six times spread over the run by default.
+        ax : matplotlib Axes, optional
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        import matplotlib.pyplot as plt
+
+        for key in ("x_m", "t_s", "r_m"):
+            if key not in self.fields:
+                raise ValueError(
+                    f"plot_shapes needs the field {key!r}; this result of "
+                    f"{self.meta.get('model', 'a model')} has {sorted(self.fields)}"
+                )
+        x, t, r = self.fields["x_m"], self.fields["t_s"], self.fields["r_m"]
+        if times_s is None:
+            times_s = np.linspace(t[0], t[-1], 6)
+        if ax is None:
+            fig, ax = plt.subplots(figsize=(4.5, 4.5))
+        else:
+            fig = ax.figure
+        for ti in times_s:
+            i = int(np.argmin(np.abs(t - ti)))
+            ax.plot(r[i] * 1e3, x * 1e3, label=f"{t[i] * 1e3:.1f} ms")
+        ax.invert_yaxis()
+        ax.set_xlabel("deflection r / mm")
+        ax.set_ylabel("x from root / mm")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        return fig
