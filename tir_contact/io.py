@@ -1,0 +1,847 @@
+"""Streaming footage readers: frame folders, TIFF stacks, videos, Photron MRAW, Phantom CINE.
+
+Every reader gives grey frames one at a time and never holds the whole footage in memory::
+
+    with open_footage("run_07/frames") as reader:
+        meta = load_meta("run_07/frames", {"mm_per_px": 0.05}, frame_rate=reader.frame_rate)
+        for index, frame in enumerate(reader):
+            ...
+
+The interface follows pims and pyidi: ``len(reader)``, ``reader.get_frame(i)``,
+``reader.frame_shape``, ``reader.frame_rate``, iteration, ``close()`` and ``with``.
+:func:`open_footage` picks the reader by file type; when none fits, its
+:class:`FootageError` lists every reader's reason.
+
+Notes
+-----
+Frames are ``(H, W)`` arrays, row 0 at the top, column 0 at the left, of dtype uint8 or
+uint16 as stored (12-bit camera data in uint16, values 0 to 4095; see ``bit_depth``). Colour
+is converted to grey with the ITU-R BT.601 luma rule ``Y = 0.299 R + 0.587 G + 0.114 B``,
+rounded, in the stored bit depth. ``frame_rate`` is in Hz (frames per second).
+"""
+
+from __future__ import annotations
+
+import abc
+import logging
+import os
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from types import TracebackType
+from typing import Any, ClassVar, Self
+
+import numpy as np
+
+from tir_contact._readers import (
+    COMPANION_NAMES,
+    COMPANION_SUFFIXES,
+    IMAGE_SUFFIXES,
+    FootageError,
+    check_cine_head,
+    check_pixels,
+    decode_image_file,
+    import_camera_package,
+    natural_key,
+    one_line,
+    size_text,
+    tiff_page_to_yxs,
+    to_grey,
+    unpack_12bit,
+)
+from tir_contact.meta import load_meta
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "READERS",
+    "VIDEO_SUFFIXES",
+    "ArrayReader",
+    "CineReader",
+    "FootageError",
+    "FootageReader",
+    "FrameFolderReader",
+    "MrawReader",
+    "MultiPageTiffReader",
+    "VideoFileReader",
+    "load_meta",
+    "open_footage",
+]
+
+#: Suffixes (lower case) of video files read through OpenCV.
+VIDEO_SUFFIXES: tuple[str, ...] = (".avi", ".mp4", ".mov", ".mkv")
+
+
+class FootageReader(abc.ABC):
+    """Random-access, streaming reader of grey frames.
+
+    Subclasses implement :meth:`_read` (one frame by index) and set ``_length``,
+    ``_frame_shape``, ``_dtype``, ``_frame_rate`` and ``_bit_depth`` when opened.
+
+    Attributes
+    ----------
+    path : Path or None
+        The footage (file or folder); None for in-memory frames.
+    """
+
+    #: Short name used in :func:`open_footage` (``kind=``) and in messages.
+    kind: ClassVar[str] = ""
+
+    def __init__(self, path: str | os.PathLike[str] | None) -> None:
+        self.path = None if path is None else Path(path)
+        self._closed = False
+        self._length = 0
+        self._frame_shape: tuple[int, int] = (0, 0)
+        self._dtype = np.dtype(np.uint8)
+        self._frame_rate: float | None = None
+        self._bit_depth = 8
+
+    # --- interface -------------------------------------------------------------------------
+    def __len__(self) -> int:
+        """Number of frames."""
+        return self._length
+
+    @property
+    def frame_shape(self) -> tuple[int, int]:
+        """Shape ``(H, W)`` of every frame in pixels."""
+        return self._frame_shape
+
+    @property
+    def dtype(self) -> np.dtype[Any]:
+        """Pixel type of the frames: uint8 or uint16."""
+        return self._dtype
+
+    @property
+    def frame_rate(self) -> float | None:
+        """Frame rate in Hz from the footage header, or None when the footage has none."""
+        return self._frame_rate
+
+    @property
+    def bit_depth(self) -> int:
+        """Effective bits per pixel, e.g. 12 for 12-bit camera data held in uint16."""
+        return self._bit_depth
+
+    @property
+    def closed(self) -> bool:
+        """True after :meth:`close`."""
+        return self._closed
+
+    def get_frame(self, i: int) -> np.ndarray:
+        """Read one frame.
+
+        Parameters
+        ----------
+        i : int
+            Frame index, 0-based; negative counts from the end.
+
+        Returns
+        -------
+        (H, W) ndarray of uint8 or uint16
+            A new array the caller may modify.
+
+        Raises
+        ------
+        IndexError
+            When `i` is out of range.
+        FootageError
+            When the frame cannot be read (truncated, corrupt, another size than the first).
+        """
+        if self._closed:
+            raise FootageError(f"{self._name()}: reader is closed", self.path)
+        n = len(self)
+        index = int(i)
+        if index < 0:
+            index += n
+        if not 0 <= index < n:
+            raise IndexError(f"frame index out of range: got {i}, footage has {n} frames")
+        frame = self._read(index)
+        if frame.shape != self._frame_shape:
+            raise FootageError(
+                f"{self._frame_name(index)}: frame size {size_text(frame.shape)} differs from "
+                f"the first frame's {size_text(self._frame_shape)}",
+                self.path,
+            )
+        if frame.dtype != self._dtype:
+            raise FootageError(
+                f"{self._frame_name(index)}: pixel type {frame.dtype} differs from the first "
+                f"frame's {self._dtype}",
+                self.path,
+            )
+        return frame
+
+    def __getitem__(self, i: int) -> np.ndarray:
+        """Same as :meth:`get_frame` (integer indices only)."""
+        if not isinstance(i, int | np.integer):
+            raise TypeError(f"frame index must be an integer, got {type(i).__name__}")
+        return self.get_frame(int(i))
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        """Yield the frames in order, one at a time."""
+        for i in range(len(self)):
+            yield self.get_frame(i)
+
+    def close(self) -> None:
+        """Release the file handles; further reads raise :class:`FootageError`."""
+        if not self._closed:
+            self._closed = True
+            self._release()
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        try:
+            self.close()
+        except Exception:  # pragma: no cover - interpreter shutdown
+            pass
+
+    def __repr__(self) -> str:
+        rate = "unknown fps" if self._frame_rate is None else f"{self._frame_rate:g} fps"
+        return (
+            f"<{type(self).__name__} {self._name()}: {len(self)} frames, "
+            f"{size_text(self._frame_shape)}, {self._bit_depth}-bit, {rate}>"
+        )
+
+    # --- for subclasses -------------------------------------------------------------------
+    @abc.abstractmethod
+    def _read(self, index: int) -> np.ndarray:
+        """Read frame `index` (0 <= index < len) as a grey array."""
+
+    def _release(self) -> None:  # noqa: B027 - optional hook, nothing to release by default
+        """Close files; called once by :meth:`close`."""
+
+    def _name(self) -> str:
+        return "<in-memory frames>" if self.path is None else str(self.path)
+
+    def _frame_name(self, index: int) -> str:
+        """How a frame is named in messages."""
+        return f"{self._name()} (frame {index})"
+
+    def _set_format(self, first: np.ndarray, *, bit_depth: int | None = None) -> None:
+        """Record shape and dtype from the first frame."""
+        self._frame_shape = (int(first.shape[0]), int(first.shape[1]))
+        self._dtype = first.dtype
+        storage = first.dtype.itemsize * 8
+        self._bit_depth = storage if bit_depth is None else int(min(max(bit_depth, 1), storage))
+
+
+class ArrayReader(FootageReader):
+    """Frames held in memory: a ``(N, H, W)`` or ``(N, H, W, C)`` array or a list of frames.
+
+    For tests and for library users who already have the frames.
+
+    Parameters
+    ----------
+    frames : ndarray or sequence of ndarray
+        Grey ``(H, W)`` or colour ``(H, W, 3|4)`` RGB(A) frames of uint8 or uint16. An array is
+        not copied; each :meth:`get_frame` returns a copy of one frame.
+    frame_rate : float, optional
+        Frame rate in Hz.
+    bit_depth : int, optional
+        Effective bits per pixel (default: 8 for uint8, 16 for uint16).
+    path : str or os.PathLike, optional
+        Name used in messages.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> reader = ArrayReader(np.zeros((3, 4, 5), np.uint8), frame_rate=100.0)
+    >>> len(reader), reader.frame_shape, reader.get_frame(-1).shape
+    (3, (4, 5), (4, 5))
+    """
+
+    kind = "array"
+
+    def __init__(
+        self,
+        frames: np.ndarray | Sequence[np.ndarray],
+        *,
+        frame_rate: float | None = None,
+        bit_depth: int | None = None,
+        path: str | os.PathLike[str] | None = None,
+    ) -> None:
+        super().__init__(path)
+        self._frames = frames if isinstance(frames, np.ndarray) else list(frames)
+        self._length = len(self._frames)
+        if self._length == 0:
+            raise FootageError(f"{self._name()}: no frames given", self.path)
+        if frame_rate is not None and not frame_rate > 0:
+            raise ValueError(f"frame_rate must be > 0 Hz, got {frame_rate=}")
+        self._frame_rate = None if frame_rate is None else float(frame_rate)
+        self._set_format(self._read(0), bit_depth=bit_depth)
+
+    def _read(self, index: int) -> np.ndarray:
+        image = np.asarray(self._frames[index])
+        check_pixels(image, self._frame_name(index))
+        return np.array(to_grey(image, order="rgb"), copy=True)
+
+
+class FrameFolderReader(FootageReader):
+    """A folder of single-image files, one frame per file, in natural order.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder.
+
+    Notes
+    -----
+    Frames are the ``.tif``, ``.tiff``, ``.png``, ``.bmp``, ``.jpg`` and ``.jpeg`` files
+    (any case), sorted naturally (``f2`` before ``f10``). Hidden files (name starting with
+    ``.``), sub-folders, files expected beside frames (``.json``, ``.csv``, ``.txt``,
+    ``.md``, ``.yaml``, ``.yml``, ``.toml``, ``.ini``, ``.cfg``, ``.log``, ``Thumbs.db``,
+    ``desktop.ini``) are skipped (logged at DEBUG level); any other file is an error naming
+    it. Files are decoded when read: a truncated or corrupt file, or a frame of another
+    size or bit depth than the first, is an error naming that file. TIFF frames are read
+    with tifffile (first page), the rest with OpenCV. The frame rate is unknown (None):
+    ``meta.json`` gives it.
+    """
+
+    kind = "folder"
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        super().__init__(path)
+        folder = Path(path)
+        if not folder.is_dir():
+            raise FootageError(f"{folder}: not a folder", folder)
+        files: list[Path] = []
+        skipped: list[str] = []
+        with os.scandir(folder) as entries:
+            for entry in entries:
+                name = entry.name
+                if name.startswith(".") or entry.is_dir():
+                    continue
+                suffix = os.path.splitext(name)[1].lower()
+                if suffix in IMAGE_SUFFIXES:
+                    files.append(Path(entry.path))
+                elif suffix in COMPANION_SUFFIXES or name.lower() in COMPANION_NAMES:
+                    skipped.append(name)
+                else:
+                    raise FootageError(
+                        f"{Path(entry.path)}: not an image file among the frames (frames are "
+                        f"{', '.join(IMAGE_SUFFIXES)}; only {', '.join(COMPANION_SUFFIXES)} "
+                        "files may lie beside them): move it out of the folder",
+                        entry.path,
+                    )
+        if skipped:
+            logger.debug("%s: skipped %d non-frame files: %s", folder, len(skipped), skipped)
+        if not files:
+            extra = f" (only {', '.join(sorted(skipped))})" if skipped else ""
+            raise FootageError(
+                f"{folder}: no image files ({', '.join(IMAGE_SUFFIXES)}) in the folder{extra}",
+                folder,
+            )
+        files.sort(key=lambda p: natural_key(p.name))
+        self._files = files
+        self._length = len(files)
+        first = decode_image_file(files[0])
+        self._set_format(first)
+
+    @property
+    def files(self) -> list[Path]:
+        """The frame files in reading order."""
+        return list(self._files)
+
+    def _read(self, index: int) -> np.ndarray:
+        return decode_image_file(self._files[index])
+
+    def _frame_name(self, index: int) -> str:
+        return f"{self._files[index]} (frame {index})"
+
+
+class MultiPageTiffReader(FootageReader):
+    """A TIFF file holding one frame per page (a single-page TIFF is a 1-frame video).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.tif`` or ``.tiff`` file.
+
+    Notes
+    -----
+    When the pages form one uncompressed, contiguous series (as ``tifffile.imwrite`` writes
+    a stack) the file is memory-mapped; otherwise each page is decoded when read. The frame
+    rate comes from ImageJ metadata (``fps`` or ``finterval``) when present, else None.
+    ``bit_depth`` is the TIFF ``BitsPerSample``. Colour pages (RGB) are converted to grey.
+    """
+
+    kind = "tiff"
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        super().__init__(path)
+        import tifffile
+
+        file = Path(path)
+        if not file.is_file():
+            raise FootageError(f"{file}: not a file", file)
+        try:
+            self._tif = tifffile.TiffFile(file)
+        except Exception as exc:
+            raise FootageError(f"{file}: not a readable TIFF file ({one_line(exc)})", file) from exc
+        try:
+            self._open()
+        except BaseException:
+            self._tif.close()
+            raise
+
+    def _open(self) -> None:
+        tif = self._tif
+        file = self.path
+        pages = tif.pages
+        self._length = len(pages)
+        if self._length == 0:
+            raise FootageError(f"{file}: TIFF file holds no page (truncated?)", file)
+        first_page = pages.first
+        self._axes = first_page.axes
+        self._memmap: np.ndarray | None = None
+        try:
+            if len(tif.series) == 1 and tif.series[0].dataoffset is not None:
+                import tifffile
+
+                mapped = tifffile.memmap(file, series=0, mode="r")
+                if mapped.size == self._length * int(np.prod(first_page.shape)):
+                    self._memmap = mapped.reshape((self._length, *first_page.shape))
+        except Exception as exc:
+            logger.debug("%s: not memory-mapped (%s)", file, one_line(exc))
+        if self._memmap is not None:
+            logger.debug("%s: memory-mapped, %d pages", file, self._length)
+        first = self._read(0)
+        self._set_format(first, bit_depth=int(first_page.bitspersample))
+        self._frame_rate = _imagej_rate(tif)
+
+    def _read(self, index: int) -> np.ndarray:
+        if self._memmap is not None:
+            image = np.array(self._memmap[index])
+            axes = self._axes
+        else:
+            try:
+                page = self._tif.pages[index]
+                image = page.asarray()
+                axes = page.axes
+            except Exception as exc:
+                raise FootageError(
+                    f"{self._frame_name(index)}: truncated or corrupt page ({one_line(exc)})",
+                    self.path,
+                ) from exc
+        image = tiff_page_to_yxs(image, axes)
+        check_pixels(image, self._frame_name(index))
+        return to_grey(image, order="rgb")
+
+    def _frame_name(self, index: int) -> str:
+        return f"{self._name()} (page {index})"
+
+    def _release(self) -> None:
+        self._memmap = None
+        self._tif.close()
+
+
+def _imagej_rate(tif: Any) -> float | None:
+    """Frame rate in Hz from ImageJ metadata, or None."""
+    meta = getattr(tif, "imagej_metadata", None) or {}
+    try:
+        fps = float(meta.get("fps", 0) or 0)
+        if fps > 0:
+            return fps
+        interval = float(meta.get("finterval", 0) or 0)
+        if interval > 0:
+            return 1.0 / interval
+    except (TypeError, ValueError):
+        return None
+    return None
+
+
+class VideoFileReader(FootageReader):
+    """A video file decoded by OpenCV (``.avi``, ``.mp4``, ``.mov``, ``.mkv``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The video file.
+
+    Notes
+    -----
+    Sequential reading (iteration, or ``get_frame(i)`` right after ``i - 1``) decodes the
+    next frame; other indices seek with ``CAP_PROP_POS_FRAMES``. The frame count in the
+    container header is verified when opening: by reading the last frame, and by counting
+    the frames when that fails or more frames follow. A video without frames is an error.
+    Frames are 8-bit; colour (OpenCV decodes to BGR) is converted to grey.
+    """
+
+    kind = "video"
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        super().__init__(path)
+        import cv2
+
+        file = Path(path)
+        if not file.is_file():
+            raise FootageError(f"{file}: not a file", file)
+        self._cv2 = cv2
+        self._cap = cv2.VideoCapture(str(file))
+        if not self._cap.isOpened():
+            self._cap.release()
+            raise FootageError(
+                f"{file}: OpenCV cannot open it as a video (corrupt file or unknown codec)", file
+            )
+        try:
+            self._open()
+        except BaseException:
+            self._cap.release()
+            raise
+
+    def _open(self) -> None:
+        cv2 = self._cv2
+        cap = self._cap
+        file = self.path
+        self._next = 0
+        ok, first = cap.read()
+        if not ok or first is None:
+            raise FootageError(f"{file}: video holds no frames", file)
+        self._next = 1
+        self._set_format(self._to_grey(first, 0))
+        fps = cap.get(cv2.CAP_PROP_FPS)
+        self._frame_rate = float(fps) if fps and np.isfinite(fps) and fps > 0 else None
+        claimed = int(cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
+        self._length = self._verified_count(claimed)
+        if self._length != claimed:
+            logger.warning("%s: header says %d frames, %d can be read", file, claimed, self._length)
+
+    def _verified_count(self, claimed: int) -> int:
+        """Frame count checked against the decoder, see the class notes."""
+        if claimed >= 1 and self._seek_read(claimed - 1) is not None:
+            count = claimed  # the header is right so far; count any frames after it
+        else:
+            self._rewind()
+            count = 0
+        while self._cap.grab():
+            count += 1
+        self._rewind()
+        return max(count, 1)
+
+    def _rewind(self) -> None:
+        cap = self._cap
+        cap.set(self._cv2.CAP_PROP_POS_FRAMES, 0)
+        self._next = 0
+
+    def _seek_read(self, index: int) -> np.ndarray | None:
+        if index != self._next:
+            self._cap.set(self._cv2.CAP_PROP_POS_FRAMES, index)
+        ok, image = self._cap.read()
+        if not ok or image is None:
+            self._next = -1
+            return None
+        self._next = index + 1
+        return image
+
+    def _to_grey(self, image: np.ndarray, index: int) -> np.ndarray:
+        check_pixels(image, self._frame_name(index))
+        return to_grey(image, order="bgr")
+
+    def _read(self, index: int) -> np.ndarray:
+        image = self._seek_read(index)
+        if image is None:
+            raise FootageError(
+                f"{self._frame_name(index)}: OpenCV cannot decode this frame (truncated or "
+                "corrupt video)",
+                self.path,
+            )
+        return self._to_grey(image, index)
+
+    def _release(self) -> None:
+        self._cap.release()
+
+
+class MrawReader(FootageReader):
+    """Photron MRAW footage: ``.mraw`` data with its ``.cihx`` or ``.cih`` header.
+
+    Needs the ``camera`` extra (pymraw, imported as ``pyMRAW``) to parse the header.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.mraw``, ``.cihx`` or ``.cih`` file; the other one has the same name beside it
+        (``.cihx`` is preferred to ``.cih``).
+
+    Notes
+    -----
+    8- and 16-bit data are memory-mapped; 12-bit packed data (two pixels in three bytes)
+    are memory-mapped as bytes and unpacked one frame at a time. ``bit_depth`` is the
+    header's effective bit depth; data aligned to the high bits (``EffectiveBit Side``
+    ``Higher``) are shifted down so values run from 0 to ``2**bit_depth - 1``. Pixels are
+    read as stored (colour sensors give their raw mosaic). The frame rate is the header's
+    record rate.
+    """
+
+    kind = "mraw"
+    _SUFFIXES: ClassVar[tuple[str, ...]] = (".mraw", ".cihx", ".cih")
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        super().__init__(path)
+        file = Path(path)
+        if file.suffix.lower() not in self._SUFFIXES:
+            raise FootageError(f"{file}: not a Photron file (.mraw, .cihx or .cih)", file)
+        header = next(
+            (c for c in (file.with_suffix(".cihx"), file.with_suffix(".cih")) if c.is_file()),
+            None,
+        )
+        if header is None:
+            raise FootageError(f"{file}: no .cihx or .cih header beside it", file)
+        raw = file.with_suffix(".mraw")
+        if not raw.is_file():
+            raise FootageError(f"{header}: no .mraw data file beside the header", header)
+        pymraw = import_camera_package(
+            ("pyMRAW", "pymraw"), package="pymraw", what="Photron .mraw", path=file
+        )
+        try:
+            cih = pymraw.get_cih(str(header))
+        except Exception as exc:
+            raise FootageError(f"{header}: unreadable header ({one_line(exc)})", header) from exc
+        self.header_path = header
+        self.path = raw
+        self.cih: dict[str, Any] = dict(cih)
+        self._map_data(cih, header, raw)
+
+    def _map_data(self, cih: dict[str, Any], header: Path, raw: Path) -> None:
+        try:
+            n = int(cih["Total Frame"])
+            h = int(cih["Image Height"])
+            w = int(cih["Image Width"])
+            bits = int(cih["Color Bit"])
+            effective = int(cih.get("EffectiveBit Depth", bits) or bits)
+            side = str(cih.get("EffectiveBit Side", "Lower") or "Lower").lower()
+            fmt = str(cih.get("File Format", "MRaw"))
+            rate = float(cih.get("Record Rate(fps)", 0) or 0)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise FootageError(
+                f"{header}: header lacks a usable value ({one_line(exc)})", header
+            ) from exc
+        if fmt.lower() != "mraw":
+            raise FootageError(f"{header}: file format {fmt!r} is not MRAW", header)
+        if bits not in (8, 12, 16):
+            raise FootageError(
+                f"{header}: {bits} bits per pixel not supported (8, 12 packed, 16)", header
+            )
+        if n < 1 or h < 1 or w < 1:
+            raise FootageError(f"{header}: header says {n} frames of {w} x {h} px", header)
+        if bits == 12 and (h * w) % 2:
+            raise FootageError(f"{header}: 12-bit packed frames need an even pixel count", header)
+        frame_bytes = h * w * bits // 8
+        size = raw.stat().st_size
+        if size < n * frame_bytes:
+            raise FootageError(
+                f"{raw}: truncated: {size} bytes, the header's {n} frames of {w} x {h} px at "
+                f"{bits} bits need {n * frame_bytes}",
+                raw,
+            )
+        if size > n * frame_bytes:
+            logger.debug("%s: %d bytes after the last frame ignored", raw, size - n * frame_bytes)
+        self._packed = bits == 12
+        if self._packed:
+            self._data = np.memmap(raw, dtype=np.uint8, mode="r", shape=(n, frame_bytes))
+        else:
+            dtype = np.uint8 if bits == 8 else np.dtype("<u2")
+            self._data = np.memmap(raw, dtype=dtype, mode="r", shape=(n, h, w))
+        self._shift = bits - effective if side == "higher" and bits in (8, 16) else 0
+        self._length = n
+        self._hw = (h, w)
+        self._frame_rate = rate if rate > 0 else None
+        self._set_format(self._read(0), bit_depth=min(effective, 16))
+
+    def _read(self, index: int) -> np.ndarray:
+        if self._packed:
+            frame = unpack_12bit(np.asarray(self._data[index]), self._hw[0] * self._hw[1])
+            return frame.reshape(self._hw)
+        frame = np.array(self._data[index], dtype=self._data.dtype.newbyteorder("="))
+        if self._shift > 0:
+            frame >>= self._shift
+        return frame
+
+    def _release(self) -> None:
+        self._data = None  # type: ignore[assignment]
+
+
+class CineReader(FootageReader):
+    """Vision Research Phantom ``.cine`` footage.
+
+    Needs the ``camera`` extra (pycine) to parse the header.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.cine`` file.
+
+    Notes
+    -----
+    Reads uncompressed 8- and 16-bit grey images and uncompressed 24/48-bit colour images
+    (BGR, converted to grey), one image per :meth:`get_frame` from the offsets in the file.
+    Values are raw as stored (no black/white level or LUT applied); images stored bottom-up
+    (positive ``biHeight``) are flipped so that row 0 is the top. ``bit_depth`` is the
+    header's ``RealBPP``. JPEG-compressed, raw-Bayer (uninterpolated) and packed 10/12-bit
+    files are refused with a message. The frame rate is the setup's ``FrameRate``.
+    """
+
+    kind = "cine"
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        super().__init__(path)
+        file = Path(path)
+        if not file.is_file():
+            raise FootageError(f"{file}: not a file", file)
+        size = file.stat().st_size
+        check_cine_head(file, size)
+        pycine_file = import_camera_package(
+            ("pycine.file",), package="pycine", what="Phantom .cine", path=file
+        )
+        try:
+            header = pycine_file.read_header(str(file))
+        except Exception as exc:
+            raise FootageError(
+                f"{file}: truncated or corrupt CINE header ({one_line(exc)})", file
+            ) from exc
+        cfh, bih, setup = header["cinefileheader"], header["bitmapinfoheader"], header["setup"]
+        self.header = header
+        self._offsets = [int(p) for p in header["pImage"]]
+        if cfh.Compression != 0:
+            what = {1: "JPEG-compressed", 2: "raw Bayer (uninterpolated)"}.get(
+                cfh.Compression, f"compression {cfh.Compression}"
+            )
+            raise FootageError(f"{file}: {what} CINE files are not supported", file)
+        if bih.biCompression != 0:
+            raise FootageError(
+                f"{file}: packed pixel data (biCompression {bih.biCompression}) not supported; "
+                "save the cine uncompressed (8 or 16 bit)",
+                file,
+            )
+        bits = int(bih.biBitCount)
+        if bits not in (8, 16, 24, 48):
+            raise FootageError(f"{file}: {bits} bits per pixel not supported", file)
+        self._channels = 3 if bits in (24, 48) else 1
+        self._dtype_file = np.dtype(np.uint8) if bits in (8, 24) else np.dtype("<u2")
+        self._w = int(bih.biWidth)
+        self._h = abs(int(bih.biHeight))
+        self._flip = int(bih.biHeight) > 0
+        if self._w < 1 or self._h < 1:
+            raise FootageError(f"{file}: header says {self._w} x {self._h} px images", file)
+        self._frame_bytes = self._w * self._h * bits // 8
+        self._size = size
+        self._length = int(cfh.ImageCount)
+        rate = int(setup.FrameRate) or int(setup.FrameRate16)
+        self._frame_rate = float(rate) if rate > 0 else None
+        storage = self._dtype_file.itemsize * 8
+        real = int(setup.RealBPP)
+        self._fh = open(file, "rb")
+        try:
+            first = self._read(0)
+        except BaseException:
+            self._fh.close()
+            raise
+        self._set_format(first, bit_depth=real if 8 <= real <= storage else storage)
+
+    def _read(self, index: int) -> np.ndarray:
+        fh = self._fh
+        start = self._offsets[index]
+        name = self._frame_name(index)
+        fh.seek(start)
+        head = fh.read(4)
+        if len(head) < 4:
+            raise FootageError(f"{name}: truncated file (image offset past the end)", self.path)
+        annotation = int.from_bytes(head, "little")
+        if annotation < 8:
+            raise FootageError(f"{name}: corrupt image header", self.path)
+        fh.seek(start + annotation - 4)
+        size_bytes = fh.read(4)
+        image_size = int.from_bytes(size_bytes, "little") if len(size_bytes) == 4 else -1
+        if image_size != self._frame_bytes:
+            raise FootageError(
+                f"{name}: image holds {image_size} bytes, {self._frame_bytes} expected for "
+                f"{self._w} x {self._h} px (truncated or corrupt file)",
+                self.path,
+            )
+        data = fh.read(image_size)
+        if len(data) != image_size:
+            raise FootageError(
+                f"{name}: truncated file ({len(data)} of {image_size} bytes)", self.path
+            )
+        image = np.frombuffer(data, dtype=self._dtype_file)
+        shape = (self._h, self._w, 3) if self._channels == 3 else (self._h, self._w)
+        image = image.reshape(shape)
+        if self._flip:
+            image = image[::-1]
+        return np.array(to_grey(image, order="bgr"), dtype=self._dtype_file.newbyteorder("="))
+
+    def _release(self) -> None:
+        self._fh.close()
+
+
+#: Reader classes in the order :func:`open_footage` tries them.
+READERS: tuple[type[FootageReader], ...] = (
+    FrameFolderReader,
+    MultiPageTiffReader,
+    VideoFileReader,
+    MrawReader,
+    CineReader,
+)
+
+_CLAIMS: dict[type[FootageReader], tuple[str, ...]] = {
+    MultiPageTiffReader: (".tif", ".tiff"),
+    VideoFileReader: VIDEO_SUFFIXES,
+    MrawReader: (".mraw", ".cihx", ".cih"),
+    CineReader: (".cine",),
+}
+
+
+def open_footage(path: str | os.PathLike[str], *, kind: str | None = None) -> FootageReader:
+    """Open footage with the reader that fits its file type.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A folder of frames, a ``.tif``/``.tiff`` stack, a video (``.avi``, ``.mp4``,
+        ``.mov``, ``.mkv``), a Photron ``.mraw``/``.cihx``/``.cih`` or a Phantom ``.cine``.
+    kind : {"folder", "tiff", "video", "mraw", "cine"}, optional
+        Force a reader instead of choosing by file type.
+
+    Returns
+    -------
+    FootageReader
+        An open reader; close it (or use ``with``).
+
+    Raises
+    ------
+    FootageError
+        When the path does not exist, or no reader can read it: one line listing each
+        tried reader's reason. The reader of the file's own type is tried first; for an
+        unknown suffix every file reader is tried.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise FootageError(f"{path}: does not exist", path)
+    if kind is not None:
+        by_kind = {cls.kind: cls for cls in READERS}
+        if kind not in by_kind:
+            raise ValueError(f"kind must be one of {sorted(by_kind)}, got {kind=}")
+        return by_kind[kind](path)
+    if path.is_dir():
+        return FrameFolderReader(path)
+    suffix = path.suffix.lower()
+    candidates = [cls for cls, suffixes in _CLAIMS.items() if suffix in suffixes]
+    if not candidates:
+        candidates = [cls for cls in READERS if cls is not FrameFolderReader]
+    if len(candidates) == 1:
+        return candidates[0](path)  # the file's own type: its reader's message says most
+    reasons: list[str] = []
+    for cls in candidates:
+        try:
+            return cls(path)
+        except FootageError as exc:
+            reason = str(exc)
+            prefix = f"{path}: "
+            reasons.append(f"{cls.__name__}: {reason.removeprefix(prefix)}")
+    raise FootageError(f"{path}: no reader fits: " + "; ".join(reasons), path)

@@ -1,0 +1,402 @@
+"""Metadata of TIR footage: ``meta.json`` beside the footage, checked and overridable.
+
+The file is the one written by ``tir-contact synth footage``::
+
+    {"view": "tir", "fps": 5000.0, "mm_per_px": 0.05, "sliding_direction": "right",
+     "contact_is": "dark",
+     "block": {"length_mm": 20, "width_mm": 20, "n_sipes": 2, "sipe_width_mm": 0.4,
+               "height_mm": 10},
+     "conditions": {"velocity_mps": 0.1, "pressure_bar": 2.5, "temperature_C": -5,
+                    "humidity_pct": 70, "salinity_pct": 0}}
+
+Every known key is type-checked (:data:`META_FIELDS`); other keys are kept as they are.
+Values given on the command line (dotted keys such as ``"block.n_sipes"``) override the file.
+
+Notes
+-----
+Units are part of the key names: ``fps`` in Hz (frames per second), ``mm_per_px`` in
+millimetres per pixel, ``_mm`` millimetres, ``_mps`` m/s, ``_bar`` bar, ``_C`` °C, ``_pct``
+percent. ``sliding_direction`` is the direction in which the block moves relative to the ice
+as seen in the image (``"right"``: towards increasing column index).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import logging
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from tir_contact._readers import FootageError
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "DEFAULTS",
+    "META_FIELDS",
+    "META_FILENAME",
+    "REQUIRED_KEYS",
+    "MetaField",
+    "find_meta",
+    "load_meta",
+    "option_flag",
+]
+
+#: Name of the metadata file beside the footage.
+META_FILENAME = "meta.json"
+
+
+@dataclass(frozen=True)
+class MetaField:
+    """One known key of ``meta.json``.
+
+    Parameters
+    ----------
+    key : str
+        Dotted key, e.g. ``"block.n_sipes"``.
+    kind : {"number", "integer", "choice", "object"}
+        Expected JSON type.
+    description : str
+        Meaning, with the unit.
+    choices : tuple of str
+        Allowed values of a ``"choice"``.
+    minimum, maximum : float, optional
+        Inclusive bounds of a number.
+    positive : bool
+        A number must be strictly greater than 0.
+    """
+
+    key: str
+    kind: str
+    description: str
+    choices: tuple[str, ...] = ()
+    minimum: float | None = None
+    maximum: float | None = None
+    positive: bool = False
+
+    def expected(self) -> str:
+        """The expected type and range, as said in error messages."""
+        if self.kind == "choice":
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.kind == "object":
+            return "a JSON object"
+        text = "an integer" if self.kind == "integer" else "a number"
+        if self.positive:
+            text += " > 0"
+        elif self.minimum is not None and self.maximum is not None:
+            text += f" from {self.minimum:g} to {self.maximum:g}"
+        elif self.minimum is not None:
+            text += f" >= {self.minimum:g}"
+        return text
+
+
+def _fields(*fields: MetaField) -> dict[str, MetaField]:
+    return {f.key: f for f in fields}
+
+
+#: Known keys of ``meta.json`` (dotted for nested ones) and their types.
+META_FIELDS: dict[str, MetaField] = _fields(
+    MetaField("view", "choice", "camera view: TIR contact image or side view", ("tir", "side")),
+    MetaField("fps", "number", "frame rate in Hz", positive=True),
+    MetaField("mm_per_px", "number", "image scale in mm per pixel", positive=True),
+    MetaField(
+        "sliding_direction",
+        "choice",
+        "direction the block slides relative to the ice, as seen in the image",
+        ("left", "right"),
+    ),
+    MetaField("contact_is", "choice", "grey level of real contact", ("dark", "bright")),
+    MetaField("block", "object", "tread-block geometry"),
+    MetaField("block.length_mm", "number", "block length in mm (sliding direction)", positive=True),
+    MetaField("block.width_mm", "number", "block width in mm", positive=True),
+    MetaField("block.n_sipes", "integer", "number of sipes", minimum=0),
+    MetaField("block.sipe_width_mm", "number", "sipe width in mm", minimum=0),
+    MetaField("block.height_mm", "number", "block height in mm", positive=True),
+    MetaField("conditions", "object", "test conditions"),
+    MetaField("conditions.velocity_mps", "number", "sliding velocity in m/s"),
+    MetaField("conditions.pressure_bar", "number", "nominal contact pressure in bar", minimum=0),
+    MetaField("conditions.temperature_C", "number", "ice or air temperature in °C"),
+    MetaField(
+        "conditions.humidity_pct", "number", "relative humidity in %", minimum=0, maximum=100
+    ),
+    MetaField(
+        "conditions.salinity_pct", "number", "salinity of the ice in %", minimum=0, maximum=100
+    ),
+)
+
+#: Keys the contact analysis needs; ``view`` and ``contact_is`` have :data:`DEFAULTS`.
+REQUIRED_KEYS: tuple[str, ...] = ("view", "fps", "mm_per_px", "sliding_direction", "contact_is")
+
+#: Values used when neither ``meta.json`` nor the command line gives the key.
+DEFAULTS: dict[str, Any] = {"view": "tir", "contact_is": "dark"}
+
+
+def option_flag(key: str) -> str:
+    """Command-line option that gives a metadata key.
+
+    Parameters
+    ----------
+    key : str
+        Dotted key, e.g. ``"block.n_sipes"``.
+
+    Returns
+    -------
+    str
+        The option, e.g. ``"--block-n-sipes"``.
+
+    Examples
+    --------
+    >>> option_flag("mm_per_px")
+    '--mm-per-px'
+    """
+    return "--" + key.replace(".", "-").replace("_", "-")
+
+
+def find_meta(path: str | os.PathLike[str]) -> Path | None:
+    """Locate the metadata file of some footage.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.json`` file (taken as it is), a folder (``folder/meta.json``) or a footage file
+        (``<name>.meta.json`` beside it, else ``meta.json`` beside it).
+
+    Returns
+    -------
+    Path or None
+        The metadata file, or None when there is none.
+    """
+    path = Path(path)
+    if path.suffix.lower() == ".json":
+        return path
+    if path.is_dir():
+        candidate = path / META_FILENAME
+        return candidate if candidate.is_file() else None
+    for candidate in (path.with_name(path.name + ".meta.json"), path.with_name(META_FILENAME)):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _meta_target(path: Path) -> Path:
+    """Where a missing ``meta.json`` is expected, for messages."""
+    if path.suffix.lower() == ".json":
+        return path
+    return (path if path.is_dir() else path.parent) / META_FILENAME
+
+
+def _show(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _check(value: Any, field: MetaField, where: str, *, from_text: bool) -> Any:
+    """Check (and coerce) one value; `where` starts the message (file or option)."""
+
+    def bad() -> FootageError:
+        return FootageError(
+            f"{where} '{field.key}' must be {field.expected()}, got {_show(value)} "
+            f"({type(value).__name__})"
+        )
+
+    if field.kind == "object":
+        if not isinstance(value, Mapping):
+            raise bad()
+        return dict(value)
+    if field.kind == "choice":
+        if not isinstance(value, str) or value.strip().lower() not in field.choices:
+            raise bad()
+        return value.strip().lower()
+    number: float | int
+    if isinstance(value, bool):
+        raise bad()
+    if isinstance(value, str) and from_text:
+        try:
+            number = float(value)
+        except ValueError:
+            raise bad() from None
+    elif isinstance(value, int | float):
+        number = value
+    else:
+        raise bad()
+    if not math.isfinite(number):
+        raise bad()
+    if field.kind == "integer":
+        if float(number) != int(number):
+            raise bad()
+        number = int(number)
+    else:
+        number = float(number)
+    if field.positive and not number > 0:
+        raise bad()
+    if field.minimum is not None and number < field.minimum:
+        raise bad()
+    if field.maximum is not None and number > field.maximum:
+        raise bad()
+    return number
+
+
+def _check_tree(data: dict[str, Any], where: str, prefix: str = "") -> None:
+    """Check every known key of `data` in place; JSON null means "not given"."""
+    for name in list(data):
+        key = prefix + name
+        if data[name] is None:
+            del data[name]
+            continue
+        field = META_FIELDS.get(key)
+        if field is None:
+            continue
+        data[name] = _check(data[name], field, where, from_text=False)
+        if field.kind == "object":
+            _check_tree(data[name], where, prefix=key + ".")
+
+
+def _read_json(meta_path: Path) -> dict[str, Any]:
+    """Read ``meta.json``; every failure is a one-line :class:`FootageError`."""
+    try:
+        text = meta_path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise FootageError(f"{meta_path}: file does not exist", meta_path) from None
+    except UnicodeDecodeError as exc:
+        raise FootageError(f"{meta_path}: not UTF-8 text ({exc.reason})", meta_path) from None
+    except OSError as exc:
+        raise FootageError(
+            f"{meta_path}: cannot be read ({exc.strerror or exc})", meta_path
+        ) from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise FootageError(
+            f"{meta_path}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})",
+            meta_path,
+        ) from None
+    if not isinstance(data, dict):
+        raise FootageError(
+            f"{meta_path}: expected a JSON object {{...}} at the top, got {type(data).__name__}",
+            meta_path,
+        )
+    return data
+
+
+def _set_dotted(data: dict[str, Any], key: str, value: Any, where: str) -> None:
+    *parents, last = key.split(".")
+    node = data
+    walked = []
+    for name in parents:
+        walked.append(name)
+        child = node.setdefault(name, {})
+        if not isinstance(child, dict):
+            raise FootageError(
+                f"{where}: cannot set '{key}' because '{'.'.join(walked)}' is not an object"
+            )
+        node = child
+    node[last] = value
+
+
+def _get_dotted(data: Mapping[str, Any], key: str) -> Any:
+    node: Any = data
+    for name in key.split("."):
+        if not isinstance(node, Mapping) or name not in node:
+            return None
+        node = node[name]
+    return node
+
+
+def load_meta(
+    path_or_folder: str | os.PathLike[str],
+    overrides: Mapping[str, Any] | None = None,
+    *,
+    frame_rate: float | None = None,
+    required: Sequence[str] = REQUIRED_KEYS,
+) -> dict[str, Any]:
+    """Read, check and complete the metadata of some footage.
+
+    Parameters
+    ----------
+    path_or_folder : str or os.PathLike
+        The footage (frame folder or file) or the metadata ``.json`` itself; see
+        :func:`find_meta`. A footage without a metadata file is fine as long as `overrides`,
+        `frame_rate` and :data:`DEFAULTS` give every `required` key.
+    overrides : mapping, optional
+        Values from the command line by dotted key (``{"fps": 5000, "block.n_sipes": 3}``);
+        they win over the file. ``None`` values are ignored (options not given); strings are
+        parsed for numeric keys.
+    frame_rate : float, optional
+        Frame rate from the footage header in Hz (``reader.frame_rate``): the ``fps`` when
+        neither the file nor `overrides` gives one.
+    required : sequence of str
+        Keys that must end up with a value (default :data:`REQUIRED_KEYS`).
+
+    Returns
+    -------
+    dict
+        The nested metadata, as in ``meta.json``, with numbers as float (int for
+        ``block.n_sipes``), choices in lower case and defaults filled in.
+
+    Raises
+    ------
+    FootageError
+        One line naming the file (or option) and the key: the file is not JSON, a value has
+        the wrong type or range, or a required key is missing (saying how to give it).
+
+    Notes
+    -----
+    Precedence per key: `overrides`, then ``meta.json``, then `frame_rate` (``fps`` only), then
+    :data:`DEFAULTS`. A header frame rate that differs from ``meta.json`` is logged as a
+    warning and the file's value is used.
+    """
+    path = Path(path_or_folder)
+    meta_path = find_meta(path)
+    data: dict[str, Any] = {}
+    if meta_path is not None:
+        data = _read_json(meta_path)
+        _check_tree(data, f"{meta_path}:")
+    file_fps = data.get("fps")
+
+    for key, value in (overrides or {}).items():
+        if value is None:
+            continue
+        field = META_FIELDS.get(key)
+        where = f"option {option_flag(key)}:"
+        if field is not None:
+            value = _check(value, field, where, from_text=True)
+            if field.kind == "object":
+                value = copy.deepcopy(value)
+                _check_tree(value, where, prefix=key + ".")
+        _set_dotted(data, key, value, where)
+
+    if frame_rate is not None and frame_rate > 0:
+        if "fps" not in data:
+            data["fps"] = float(frame_rate)
+        elif file_fps is not None and data["fps"] == file_fps:
+            if not math.isclose(file_fps, frame_rate, rel_tol=1e-6):
+                logger.warning(
+                    "%s gives fps %g, the footage header %g Hz: using %g",
+                    meta_path,
+                    file_fps,
+                    frame_rate,
+                    file_fps,
+                )
+    for key, value in DEFAULTS.items():
+        data.setdefault(key, value)
+
+    for key in required:
+        if _get_dotted(data, key) is not None:
+            continue
+        how = f"pass {option_flag(key)}"
+        if key == "fps":
+            how += " (the footage header gives no frame rate)"
+        if meta_path is not None:
+            message = f"{meta_path} has no '{key}': add it to {meta_path.name} or {how}"
+        else:
+            message = (
+                f"{path}: no {META_FILENAME} beside the footage gives '{key}': "
+                f"add it to {_meta_target(path)} or {how}"
+            )
+        raise FootageError(message, meta_path or path)
+    return data
