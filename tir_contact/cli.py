@@ -8,9 +8,9 @@ import sys
 from collections.abc import Sequence
 
 from tir_contact import __version__
-from tir_contact.commands import demo, evaluate
+from tir_contact.commands import demo, evaluate, synth
 
-_COMMANDS = (evaluate, demo)
+_COMMANDS = (evaluate, demo, synth)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,0 +1,364 @@
+"""Tests of the ``tir-contact synth`` sub-command (parser built here with add_parser)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import types
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from friction_model.effects import EFFECT_NAMES
+from friction_model.evaluation import read_run
+from synthetic.measurements import STEADY_COLUMNS, TRANSIENT_COLUMNS
+from tir_contact import cli
+from tir_contact.commands import synth
+
+# the renderer's contract (synthetic.footage), field names the CLI must produce
+CAMERA_FIELDS = {
+    "fps",
+    "exposure_s",
+    "mm_per_px",
+    "width_px",
+    "height_px",
+    "bit_depth",
+    "gain",
+    "read_noise_dn",
+    "shot_noise",
+    "rotation_deg",
+}
+SPEC_FIELDS = {
+    "preset",
+    "view",
+    "velocity_mps",
+    "n_frames",
+    "pressure_bar",
+    "temperature_C",
+    "humidity_pct",
+    "salinity_pct",
+    "sliding_direction",
+    "contact_is",
+    "seed",
+}
+# small, fast versions of each kind
+SMALL = {
+    "steady": ["--velocities", "1,3", "--pressures", "2.5", "--temperatures=-5,-1"],
+    "transient": ["--sample-rate", "2000"],
+    "raw": ["--velocities", "1", "--sipes", "3", "--repeats", "2", "--sample-rate", "1000"],
+}
+
+
+def parser() -> argparse.ArgumentParser:
+    top = argparse.ArgumentParser(prog="tir-contact")
+    sub = top.add_subparsers(dest="command", required=True)
+    synth.add_parser(sub)
+    return top
+
+
+def main(argv: list[str]) -> int:
+    args = parser().parse_args(argv)
+    return args.func(args)
+
+
+def measurements(kind: str, out: Path, *extra: str) -> int:
+    return main(["synth", "measurements", "--kind", kind, "--out", str(out), *SMALL[kind], *extra])
+
+
+def all_bytes(path: Path) -> dict[str, bytes]:
+    if path.is_dir():
+        return {f.name: f.read_bytes() for f in sorted(path.iterdir())}
+    return {path.name: path.read_bytes()}
+
+
+def out_path(tmp_path: Path, kind: str, name: str = "out") -> Path:
+    return tmp_path / (name if kind == "raw" else f"{name}.csv")
+
+
+# -- measurements ----------------------------------------------------------------------------
+def test_steady_end_to_end(tmp_path, capsys):
+    out = out_path(tmp_path, "steady")
+    assert measurements("steady", out, "--effect", "viscous_shear", "--seed", "3") == 0
+    table = pd.read_csv(out)
+    assert list(table.columns) == list(STEADY_COLUMNS)
+    assert len(table) == 2 * 1 * 2 * 2 * 2 * 2  # v, p, T, rH, K, sipes
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("steady: wrote 32 rows")
+    assert "viscous_shear" not in lines[0]  # not announced without --reveal
+
+
+def test_transient_end_to_end(tmp_path, capsys):
+    out = out_path(tmp_path, "transient")
+    rc = measurements(
+        "transient", out, "--effect", "friction_relaxation=1.5", "--velocities", "2,4"
+    )
+    assert rc == 0
+    table = pd.read_csv(out)
+    assert list(table.columns) == list(TRANSIENT_COLUMNS)
+    assert table["velocity_mps"].iloc[0] == 2.0 and table["velocity_mps"].iloc[-1] == 4.0
+    # default duration after the 0.2 s step: max(0.2 s, 10 tau) = 0.3 s at 2000 Hz
+    assert len(table) == 1001
+    assert capsys.readouterr().out.startswith("transient: wrote 1001 rows")
+
+
+def test_raw_end_to_end(tmp_path, capsys):
+    out = out_path(tmp_path, "raw")
+    rc = measurements("raw", out, "--profile", "instationary", "--no-sensor-noise")
+    assert rc == 0
+    files = sorted(out.glob("*.csv"))
+    assert [f.name for f in files] == ["run_001.csv", "run_002.csv"]
+    run = read_run(files[0])
+    assert run.metadata["kind"] == "instationary" and run.metadata["specimen"] == "G3"
+    assert capsys.readouterr().out.startswith("raw: wrote 2 runs")
+
+
+def test_registered_in_the_top_level_cli(tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    assert cli.main(["synth", "measurements", "--kind", "transient", "--out", str(out)]) == 0
+    assert out.exists()
+
+
+@pytest.mark.parametrize("kind", ["steady", "transient", "raw"])
+def test_same_seed_same_bytes(kind, tmp_path):
+    effect = ["--effect", "humidity_water_layer", "--effect", "frequency_dependent_modulus"]
+    outs = [out_path(tmp_path, kind, name) for name in ("a", "b", "c")]
+    for out, seed in zip(outs, ("5", "5", "6"), strict=True):
+        assert measurements(kind, out, *effect, "--seed", seed) == 0
+    a, b, c = (all_bytes(o) for o in outs)
+    assert list(a.values()) == list(b.values())
+    assert all(x != y for x, y in zip(a.values(), c.values(), strict=True))
+
+
+@pytest.mark.parametrize("kind", ["steady", "transient", "raw"])
+def test_reveal_writes_the_truth_and_only_then(kind, tmp_path, capsys):
+    effects = ["--effect", "ice_preheating=0.5", "--effect", "friction_relaxation"]
+    hidden = out_path(tmp_path, kind, "hidden")
+    assert measurements(kind, hidden, *effects) == 0
+    for content in all_bytes(hidden).values():
+        assert not any(name.encode() in content for name in EFFECT_NAMES)
+    assert not list(tmp_path.glob("*.truth.json"))
+    shown = out_path(tmp_path, kind, "shown")
+    assert measurements(kind, shown, *effects, "--reveal", "--noise", "0.02") == 0
+    truth = json.loads(Path(f"{shown}.truth.json").read_text())
+    assert truth["effects"]["ice_preheating"] == 0.5
+    assert truth["effects"]["friction_relaxation"] == 1.0
+    assert truth["effects"]["viscous_shear"] == 0.0
+    assert (truth["seed"], truth["noise"]) == (1, 0.02)
+    assert "truth in" in capsys.readouterr().out.strip().splitlines()[-1]
+
+
+def test_strength_option_applies_to_all_or_pairwise():
+    f = synth.measurement_effects
+    assert f([("viscous_shear", None)], []) == {"viscous_shear": 1.0}
+    assert f([("viscous_shear", None), ("ice_preheating", None)], [0.3]) == {
+        "viscous_shear": 0.3,
+        "ice_preheating": 0.3,
+    }
+    assert f([("viscous_shear", None), ("ice_preheating", None)], [2.0, 0.3]) == {
+        "viscous_shear": 2.0,
+        "ice_preheating": 0.3,
+    }
+
+
+# -- bad arguments ---------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--kind", "video", "--out", "x"], "--kind"),
+        (["--kind", "steady", "--out", "x", "--effect", "bogus"], "--effect"),
+        (["--kind", "steady", "--out", "x", "--noise", "-1"], "--noise"),
+        (["--kind", "steady", "--out", "x", "--velocities", "1,a"], "--velocities"),
+        (["--kind", "steady"], "--out"),
+    ],
+)
+def test_argparse_errors_exit_2_naming_the_option(argv, message, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["synth", "measurements", *argv])
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_unknown_effect_message_lists_the_valid_ones(capsys):
+    with pytest.raises(SystemExit):
+        main(["synth", "measurements", "--kind", "raw", "--out", "x", "--effect", "bogus"])
+    err = capsys.readouterr().err
+    assert all(name in err for name in EFFECT_NAMES)
+
+
+@pytest.mark.parametrize(
+    ("kind", "extra", "message"),
+    [
+        ("transient", ["--pressures", "1,2"], "--pressures"),
+        ("transient", ["--velocities", "1,2,3"], "--velocities"),
+        ("raw", ["--temperatures=-5,-4"], "--temperatures"),
+        (
+            "steady",
+            ["--effect", "viscous_shear", "--strength", "1", "--strength", "2", "--strength", "3"],
+            "--strength",
+        ),
+        ("steady", ["--effect", "viscous_shear", "--effect", "viscous_shear"], "--effect"),
+        ("steady", ["--t-step", "0.1"], "--t-step"),
+        ("steady", ["--repeats", "1"], "--repeats"),
+    ],
+)
+def test_inconsistent_options_return_2_naming_the_option(kind, extra, message, tmp_path, capsys):
+    out = out_path(tmp_path, kind)
+    assert main(["synth", "measurements", "--kind", kind, "--out", str(out), *extra]) == 2
+    assert message in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_a_condition_the_model_refuses_returns_1(tmp_path, capsys):
+    out = tmp_path / "s.csv"
+    rc = main(
+        ["synth", "measurements", "--kind", "steady", "--out", str(out), "--temperatures", "5"]
+    )
+    assert rc == 1
+    assert "temperature_C" in capsys.readouterr().err
+
+
+# -- footage ---------------------------------------------------------------------------------
+FOOTAGE_ARGS = [
+    "synth", "footage", "--preset", "G5", "--view", "tir", "--velocity", "2.5", "--frames",
+    "40", "--seed", "9", "--out", "frames", "--fps", "5000", "--exposure", "1e-4",
+    "--mm-per-px", "0.05", "--width", "320", "--height", "200", "--bit-depth", "12", "--gain",
+    "0.8", "--read-noise", "3", "--rotation", "1.5", "--pressure", "2.5", "--temperature",
+    "-4", "--humidity", "70", "--salinity", "0.05", "--sliding-direction", "+x",
+    "--contact-is", "bright", "--format", "tiff",
+]  # fmt: skip
+
+
+def test_footage_options_map_onto_the_renderer_fields():
+    args = parser().parse_args(FOOTAGE_ARGS)
+    camera, spec = synth.footage_kwargs(args)
+    assert set(camera) == CAMERA_FIELDS - {"shot_noise"}
+    assert set(spec) == SPEC_FIELDS
+    assert camera == {
+        "fps": 5000.0,
+        "exposure_s": 1e-4,
+        "mm_per_px": 0.05,
+        "width_px": 320,
+        "height_px": 200,
+        "bit_depth": 12,
+        "gain": 0.8,
+        "read_noise_dn": 3.0,
+        "rotation_deg": 1.5,
+    }
+    assert spec == {
+        "preset": "G5",
+        "view": "tir",
+        "velocity_mps": 2.5,
+        "n_frames": 40,
+        "pressure_bar": 2.5,
+        "temperature_C": -4.0,
+        "humidity_pct": 70.0,
+        "salinity_pct": 0.05,
+        "sliding_direction": "+x",
+        "contact_is": "bright",
+        "seed": 9,
+    }
+    assert args.format == "tiff"
+
+
+def test_footage_defaults_leave_the_renderer_defaults():
+    args = parser().parse_args(["synth", "footage", "--out", "d", "--no-noise"])
+    camera, spec = synth.footage_kwargs(args)
+    assert camera == {"shot_noise": False, "read_noise_dn": 0.0}
+    assert spec == {
+        "preset": "G3",
+        "view": "tir",
+        "velocity_mps": 1.0,
+        "n_frames": 400,
+        "seed": 1,
+    }
+
+
+def test_footage_fields_exist_in_the_renderer():
+    footage = pytest.importorskip("synthetic.footage")
+    from dataclasses import fields
+
+    assert CAMERA_FIELDS <= {f.name for f in fields(footage.CameraSettings)}
+    assert SPEC_FIELDS | {"camera"} <= {f.name for f in fields(footage.FootageSpec)}
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--no-noise", "--read-noise", "2"], "--read-noise"),
+        (["--format", "gif"], "--format"),
+        (["--frames", "0"], "--frames"),
+    ],
+)
+def test_footage_bad_arguments_exit_2(extra, message, capsys):
+    with pytest.raises(SystemExit) as exc:
+        parser().parse_args(["synth", "footage", "--out", "d", *extra])
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+@dataclass
+class _FakeCamera:
+    fps: float = 1000.0
+    exposure_s: float = 1e-4
+    mm_per_px: float = 0.05
+    width_px: int = 64
+    height_px: int = 48
+    bit_depth: int = 8
+    gain: float = 1.0
+    read_noise_dn: float = 1.0
+    shot_noise: bool = True
+    rotation_deg: float = 0.0
+
+
+@dataclass
+class _FakeSpec:
+    preset: str
+    view: str
+    velocity_mps: float
+    n_frames: int
+    camera: _FakeCamera
+    seed: int
+    pressure_bar: float = 2.5
+    temperature_C: float = -4.0
+    humidity_pct: float = 70.0
+    salinity_pct: float = 0.0
+    sliding_direction: str = "+x"
+    contact_is: str = "bright"
+    rendered: list = field(default_factory=list)
+
+
+def test_footage_run_builds_the_spec_and_renders(monkeypatch, tmp_path, capsys):
+    """With a stand-in renderer of the agreed contract (the real one is tested elsewhere)."""
+    calls = []
+
+    def render_footage(spec, out_dir, *, fmt="png", progress=None):
+        calls.append((spec, out_dir, fmt))
+        return Path(out_dir)
+
+    fake = types.ModuleType("synthetic.footage")
+    fake.CameraSettings, fake.FootageSpec, fake.render_footage = (
+        _FakeCamera,
+        _FakeSpec,
+        render_footage,
+    )
+    monkeypatch.setitem(sys.modules, "synthetic.footage", fake)
+    argv = ["synth", "footage", "--out", str(tmp_path / "f"), "--fps", "2000", "--no-noise"]
+    assert main(argv) == 0
+    ((spec, out_dir, fmt),) = calls
+    assert (spec.preset, spec.view, spec.n_frames, fmt) == ("G3", "tir", 400, "png")
+    assert (spec.camera.fps, spec.camera.shot_noise, spec.camera.read_noise_dn) == (
+        2000.0,
+        False,
+        0.0,
+    )
+    assert out_dir == str(tmp_path / "f")
+    assert capsys.readouterr().out.startswith("footage: rendered 400 frames")
+
+
+def test_footage_without_renderer_fails_with_a_message(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "synthetic.footage", None)  # import raises ImportError
+    assert main(["synth", "footage", "--out", "d"]) == 1
+    assert "synthetic.footage" in capsys.readouterr().err
