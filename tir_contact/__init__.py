@@ -1,14 +1,44 @@
 """tir-contact: TIR contact analysis of tread blocks sliding on ice.
 
-The command-line interface lives in :mod:`tir_contact.cli`; the friction model and the
-test-rig evaluation live in the sibling package :mod:`friction_model`.
+Public API (imported lazily so that ``tir-contact --help`` stays fast)
+----------------------------------------------------------------------
+Footage readers (:mod:`tir_contact.io`)
+    :func:`open_footage`, :class:`FootageReader`, :class:`FrameFolderReader`,
+    :class:`MultiPageTiffReader`, :class:`VideoFileReader`, :class:`MrawReader`,
+    :class:`CineReader`, :class:`ArrayReader`, :class:`FootageError`.
+Metadata (:mod:`tir_contact.meta`)
+    :func:`load_meta`.
+
+The friction model and the test-rig evaluation are in the sibling package
+:mod:`friction_model`; synthetic data in :mod:`synthetic`.
 """
 
+from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
+from typing import Any
 
 try:
     __version__ = version("tir-contact")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree without install
     __version__ = "0.0.0+unknown"
 
-__all__ = ["__version__"]
+_LAZY = {
+    "ArrayReader": "tir_contact.io",
+    "CineReader": "tir_contact.io",
+    "FootageError": "tir_contact.io",
+    "FootageReader": "tir_contact.io",
+    "FrameFolderReader": "tir_contact.io",
+    "MrawReader": "tir_contact.io",
+    "MultiPageTiffReader": "tir_contact.io",
+    "VideoFileReader": "tir_contact.io",
+    "load_meta": "tir_contact.meta",
+    "open_footage": "tir_contact.io",
+}
+
+__all__ = ["__version__", *sorted(_LAZY)]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'tir_contact' has no attribute {name!r}")
