@@ -202,8 +202,14 @@ class FrictionLaw(abc.ABC):
     def _basis(
         cls, v: np.ndarray, nonlinear: Mapping[str, Any], pressure: np.ndarray | None
     ) -> tuple[np.ndarray, ...]:
-        """Columns multiplying the linear parameters ``_linear`` given the nonlinear ones."""
-        raise NotImplementedError(f"{cls.__name__} is not separable")
+        """Columns multiplying the linear parameters ``_linear`` given the nonlinear ones.
+
+        Only called for laws that declare ``_linear`` parameters; such a law must override it.
+        """
+        raise TypeError(
+            f"{cls.__name__} declares linear parameters {cls._linear} but no _basis; "
+            "override _basis or leave _linear empty"
+        )
 
     @classmethod
     def _grid(cls, v: np.ndarray) -> dict[str, np.ndarray]:
