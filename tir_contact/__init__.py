@@ -8,6 +8,9 @@ Footage readers (:mod:`tir_contact.io`)
     :class:`CineReader`, :class:`ArrayReader`, :class:`FootageError`.
 Metadata (:mod:`tir_contact.meta`)
     :func:`load_meta`.
+Reference and segmentation (:mod:`tir_contact.calibrate`, :mod:`tir_contact.segment`)
+    :func:`reference_from_frames`, :func:`reference_from_frame`, :func:`darkness`,
+    :class:`Reference`, :func:`segment_frame`, :class:`FrameContact`.
 
 The friction model and the test-rig evaluation are in the sibling package
 :mod:`friction_model`; synthetic data in :mod:`synthetic`.
@@ -32,6 +35,12 @@ _LAZY = {
     "MultiPageTiffReader": "tir_contact.io",
     "VideoFileReader": "tir_contact.io",
     "load_meta": "tir_contact.meta",
+    "Reference": "tir_contact.calibrate",
+    "darkness": "tir_contact.calibrate",
+    "reference_from_frame": "tir_contact.calibrate",
+    "reference_from_frames": "tir_contact.calibrate",
+    "FrameContact": "tir_contact.segment",
+    "segment_frame": "tir_contact.segment",
     "open_footage": "tir_contact.io",
 }
 
