@@ -683,24 +683,38 @@ def tir_truth_rows(
         xs_front.append(x_front)
         xs_peak.append((c.peak_pressure_Pa, x_peak))
         rows.append(
-            {
-                "element": i,
-                "in_view": True,
-                "contact_area_mm2": area,
-                "contact_length_mm": length,
-                "front_edge_x_mm": x_front,
-                "front_peak_x_mm": x_peak,
-                "deflection_angle_deg": float(deflection_deg[i]),
-                "tilt_deg": math.degrees(float(frame.tilt_rad[i])),
-                "tip_deflection_mm": float(frame.tip_x_mm[i]),
-                "contact_fraction": c.length_mm / ell,
-                "normal_force_N": c.force_N,
-                "peak_pressure_MPa": c.peak_pressure_Pa * 1e-6,
-                "lever_arm_mm": c.lever_arm_mm,
-            }
+            element_row(i, frame, c, area, length, x_front, x_peak, float(deflection_deg[i]))
         )
     rows.append(block_row(rows, frame, xs_front, xs_peak, direction=path.direction))
     return rows
+
+
+def element_row(
+    i: int,
+    frame: ElementFrame,
+    c: ElementContact,
+    area_mm2: float,
+    length_mm: float,
+    x_front_mm: float,
+    x_peak_mm: float,
+    deflection_deg: float,
+) -> dict[str, float | int | bool]:
+    """Ground-truth row of element ``i`` in view (both views share the columns)."""
+    return {
+        "element": i,
+        "in_view": True,
+        "contact_area_mm2": area_mm2,
+        "contact_length_mm": length_mm,
+        "front_edge_x_mm": x_front_mm,
+        "front_peak_x_mm": x_peak_mm,
+        "deflection_angle_deg": deflection_deg,
+        "tilt_deg": math.degrees(float(frame.tilt_rad[i])),
+        "tip_deflection_mm": float(frame.tip_x_mm[i]),
+        "contact_fraction": c.length_mm / float(frame.length_mm[i]),
+        "normal_force_N": c.force_N,
+        "peak_pressure_MPa": c.peak_pressure_Pa * 1e-6,
+        "lever_arm_mm": c.lever_arm_mm,
+    }
 
 
 def block_row(

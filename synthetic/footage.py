@@ -80,6 +80,7 @@ from synthetic._render_tir import (
     block_profile,
     block_row,
     element_contacts,
+    element_row,
     ice_transmission,
     render_tir_signal,
     tir_truth_rows,
@@ -838,21 +839,16 @@ class _Clip:
             xs_front.append(x_front)
             xs_peak.append((c.peak_pressure_Pa, x_peak))
             rows.append(
-                {
-                    "element": i,
-                    "in_view": True,
-                    "contact_area_mm2": c.length_mm * self.geom.width_mm,
-                    "contact_length_mm": c.length_mm,
-                    "front_edge_x_mm": x_front,
-                    "front_peak_x_mm": x_peak,
-                    "deflection_angle_deg": float(deflection[i]),
-                    "tilt_deg": math.degrees(float(frame.tilt_rad[i])),
-                    "tip_deflection_mm": float(frame.tip_x_mm[i]),
-                    "contact_fraction": c.length_mm / ell,
-                    "normal_force_N": c.force_N,
-                    "peak_pressure_MPa": c.peak_pressure_Pa * 1e-6,
-                    "lever_arm_mm": c.lever_arm_mm,
-                }
+                element_row(
+                    i,
+                    frame,
+                    c,
+                    c.length_mm * self.geom.width_mm,
+                    c.length_mm,
+                    x_front,
+                    x_peak,
+                    float(deflection[i]),
+                )
             )
         rows.append(block_row(rows, frame, xs_front, xs_peak, direction=s))
         return rows

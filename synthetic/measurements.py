@@ -58,6 +58,7 @@ import scipy.linalg
 import scipy.optimize
 import scipy.signal
 
+from friction_model._validate import check_nonnegative, check_positive
 from friction_model.drywet import DryWetParameters, friction_table
 from friction_model.dynamics import velocity_step
 from friction_model.dynamics.rigid import (
@@ -550,25 +551,11 @@ def element_natural_frequency_Hz(
     True
     """
     modulus_strength = _check_strength("frequency_dependent_modulus", modulus_strength)
-    _check_finite_positive("pressure_bar", pressure_bar)
+    check_positive("pressure_bar", pressure_bar)
     return _element(_geometry(n_sipes), pressure_bar, modulus_strength).natural_frequency_Hz
 
 
 # -- validation helpers ----------------------------------------------------------------------
-def _check_finite_positive(name: str, value: Any) -> float:
-    value = float(value)
-    if not math.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be a finite number > 0, got {name}={value!r}")
-    return value
-
-
-def _check_noise(noise: Any) -> float:
-    noise = float(noise)
-    if not math.isfinite(noise) or noise < 0:
-        raise ValueError(f"noise must be a finite number >= 0, got noise={noise!r}")
-    return noise
-
-
 def _check_repeats(n_repeats: Any) -> int:
     if isinstance(n_repeats, bool) or int(n_repeats) != n_repeats or n_repeats < 2:
         raise ValueError(f"n_repeats must be an integer >= 2, got n_repeats={n_repeats!r}")
@@ -737,7 +724,7 @@ def make_steady_table(
     (True, 0.0)
     """
     spec = EffectSpec.coerce(effects)
-    noise = _check_noise(noise)
+    noise = check_nonnegative("noise", noise)
     n_repeats = _check_repeats(n_repeats)
     if grid is None:
         grid = SteadyGrid()
@@ -875,15 +862,15 @@ def make_transient_table(
     True
     """
     spec = EffectSpec.coerce(effects)
-    noise = _check_noise(noise)
+    noise = check_nonnegative("noise", noise)
     for name, value in (("v1_mps", v1_mps), ("v2_mps", v2_mps), ("t_step_s", t_step_s)):
-        _check_finite_positive(name, value)
-    fs = _check_finite_positive("sample_rate_Hz", sample_rate_Hz)
-    _check_finite_positive("pressure_bar", pressure_bar)
+        check_positive(name, value)
+    fs = check_positive("sample_rate_Hz", sample_rate_Hz)
+    check_positive("pressure_bar", pressure_bar)
     tau = spec.relaxation_time_s
     if duration_s is None:
         duration_s = max(0.2, 10.0 * tau)
-    duration_s = _check_finite_positive("duration_s", duration_s)
+    duration_s = check_positive("duration_s", duration_s)
     gen = np.random.default_rng(rng)
 
     geometry = _geometry(n_sipes)
@@ -1038,18 +1025,18 @@ def make_raw_runs(
     ('G3', ['time_s', 'velocity_mps'])
     """
     spec = EffectSpec.coerce(effects)
-    noise = _check_noise(noise)
+    noise = check_nonnegative("noise", noise)
     sipes = _values("n_sipes", n_sipes, integer=True)
     velocities = _values("velocities_mps", velocities_mps)
     if min(velocities) <= 0:
         raise ValueError(f"velocities_mps must all be > 0, got {velocities_mps!r}")
     if isinstance(n_repeats, bool) or int(n_repeats) != n_repeats or not 1 <= n_repeats <= 10:
         raise ValueError(f"n_repeats must be an integer in 1..10, got n_repeats={n_repeats!r}")
-    fs = _check_finite_positive("sample_rate_Hz", sample_rate_Hz)
+    fs = check_positive("sample_rate_Hz", sample_rate_Hz)
     if fs > 50_000:
         raise ValueError(f"sample_rate_Hz must be <= 50000 (the rig's rate), got {fs!r}")
-    _check_finite_positive("pressure_bar", pressure_bar)
-    interval = _check_finite_positive("run_interval_s", run_interval_s)
+    check_positive("pressure_bar", pressure_bar)
+    interval = check_positive("run_interval_s", run_interval_s)
     if profile not in ("steady", "instationary"):
         raise ValueError(f"profile must be 'steady' or 'instationary', got profile={profile!r}")
     gen = np.random.default_rng(rng)

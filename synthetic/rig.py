@@ -26,6 +26,8 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
+from friction_model._validate import check_nonnegative, check_positive
+
 __all__ = ["RUN_COLUMNS", "make_raw_run", "write_run_csv"]
 
 logger = logging.getLogger(__name__)
@@ -51,20 +53,6 @@ _HUMIDITY_SENSOR_NOISE_PCT = 0.1
 # Wavelength of the ice-surface height variation that the preloaded coil spring turns into a
 # normal-force ripple (m of track).
 _SURFACE_WAVELENGTH_M = 0.5
-
-
-def _positive(name: str, value: float) -> float:
-    value = float(value)
-    if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must be a finite number > 0, got {name}={value!r}")
-    return value
-
-
-def _non_negative(name: str, value: float) -> float:
-    value = float(value)
-    if not math.isfinite(value) or value < 0.0:
-        raise ValueError(f"{name} must be a finite number >= 0, got {name}={value!r}")
-    return value
 
 
 def make_raw_run(
@@ -159,20 +147,20 @@ def make_raw_run(
     """
     if kind not in ("steady", "instationary"):
         raise ValueError(f"kind must be 'steady' or 'instationary', got {kind=}")
-    velocity_mps = _positive("velocity_mps", velocity_mps)
-    accel_mps2 = _positive("accel_mps2", accel_mps2)
-    decel_mps2 = _positive("decel_mps2", decel_mps2)
-    sample_rate_Hz = _positive("sample_rate_Hz", sample_rate_Hz)
-    normal_force_N = _positive("normal_force_N", normal_force_N)
-    plateau_s = _non_negative("plateau_s", plateau_s) if kind == "steady" else 0.0
-    force_noise_N = _non_negative("force_noise_N", force_noise_N)
-    velocity_noise_mps = _non_negative("velocity_noise_mps", velocity_noise_mps)
-    normal_force_ripple = _non_negative("normal_force_ripple", normal_force_ripple)
+    velocity_mps = check_positive("velocity_mps", velocity_mps)
+    accel_mps2 = check_positive("accel_mps2", accel_mps2)
+    decel_mps2 = check_positive("decel_mps2", decel_mps2)
+    sample_rate_Hz = check_positive("sample_rate_Hz", sample_rate_Hz)
+    normal_force_N = check_positive("normal_force_N", normal_force_N)
+    plateau_s = check_nonnegative("plateau_s", plateau_s) if kind == "steady" else 0.0
+    force_noise_N = check_nonnegative("force_noise_N", force_noise_N)
+    velocity_noise_mps = check_nonnegative("velocity_noise_mps", velocity_noise_mps)
+    normal_force_ripple = check_nonnegative("normal_force_ripple", normal_force_ripple)
     if normal_force_ripple >= 1.0:
         raise ValueError(f"normal_force_ripple must be < 1, got {normal_force_ripple=}")
-    inertial_mass_kg = _non_negative("inertial_mass_kg", inertial_mass_kg)
-    rest_s = _non_negative("rest_s", rest_s)
-    lift_off_s = _non_negative("lift_off_s", lift_off_s)
+    inertial_mass_kg = check_nonnegative("inertial_mass_kg", inertial_mass_kg)
+    rest_s = check_nonnegative("rest_s", rest_s)
+    lift_off_s = check_nonnegative("lift_off_s", lift_off_s)
     gen = np.random.default_rng(rng)
 
     t_start = rest_s

@@ -61,6 +61,11 @@ class Reference:
         return float(1.0 - self.valid.mean())
 
 
+def _check_contact_is(contact_is: str) -> None:
+    if contact_is not in ("dark", "bright"):
+        raise ValueError(f"contact_is must be 'dark' or 'bright', got {contact_is!r}")
+
+
 def _valid_mask(image: np.ndarray, min_relative: float) -> np.ndarray:
     level = float(np.median(image))
     return image > min_relative * level
@@ -100,8 +105,7 @@ def reference_from_frames(
     -------
     Reference
     """
-    if contact_is not in ("dark", "bright"):
-        raise ValueError(f"contact_is must be 'dark' or 'bright', got {contact_is!r}")
+    _check_contact_is(contact_is)
     if not 50.0 < percentile <= 100.0:
         raise ValueError(f"percentile must lie in (50, 100], got {percentile!r}")
     step = max(1, (n_total or 0) // max_frames) if n_total else 1
@@ -154,8 +158,7 @@ def reference_from_frame(
     """
     import cv2
 
-    if contact_is not in ("dark", "bright"):
-        raise ValueError(f"contact_is must be 'dark' or 'bright', got {contact_is!r}")
+    _check_contact_is(contact_is)
     if size_px < 3 or size_px % 2 == 0:
         raise ValueError(f"size_px must be odd and >= 3, got size_px={size_px!r}")
     img = np.asarray(frame, dtype=np.float32)
@@ -188,6 +191,7 @@ def darkness(frame: np.ndarray, reference: Reference, *, contact_is: str = "dark
     >>> darkness(np.array([[200, 50], [100, 200]]), ref).tolist()
     [[0.0, 0.75], [0.5, 0.0]]
     """
+    _check_contact_is(contact_is)
     if frame.shape != reference.image.shape:
         raise ValueError(
             f"frame shape {frame.shape} differs from the reference {reference.image.shape}"

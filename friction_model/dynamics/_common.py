@@ -28,9 +28,13 @@ __all__ = [
     "Profile",
     "SimulationError",
     "SimulationResult",
+    "batched_fd_jacobian",
     "check_in_range",
     "constant_preload",
     "constant_velocity",
+    "finite_rhs",
+    "output_times",
+    "raise_if_failed",
     "surface_profile",
     "velocity_ramp",
     "velocity_step",
@@ -50,6 +54,77 @@ def check_in_range(name: str, value: float, low: float, high: float, *, unit: st
         u = f" {unit}" if unit else ""
         raise ValueError(f"{name} must lie in [{low:g}, {high:g}]{u}, got {name}={value!r}")
     return value
+
+
+def output_times(t_end_s: float, step_s: float) -> np.ndarray:
+    """Output times 0, step, 2 step, ... up to and including ``t_end_s`` (s).
+
+    Examples
+    --------
+    >>> output_times(0.01, 0.004).tolist()
+    [0.0, 0.004, 0.008]
+    """
+    t = np.arange(0.0, t_end_s + 0.5 * step_s, step_s)
+    return t[t <= t_end_s]
+
+
+def finite_rhs(
+    rhs_batch: Callable[[float, np.ndarray], np.ndarray], what: str, detail: str
+) -> Callable[[float, np.ndarray], np.ndarray]:
+    """Right-hand side ``f(t, y)`` from a batched one ``F(t, Y) -> (n_batch, n)``.
+
+    A non-finite derivative raises :class:`SimulationError` saying ``what`` diverged, at
+    which time, and ``detail`` (why), instead of letting NaNs into the solver.
+    """
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        out = rhs_batch(t, y[None, :])[0]
+        if not np.all(np.isfinite(out)):
+            raise SimulationError(f"{what}: the integration diverged at t={t:.6g} s ({detail})")
+        return out
+
+    return rhs
+
+
+def batched_fd_jacobian(
+    rhs_batch: Callable[[float, np.ndarray], np.ndarray],
+    floor: np.ndarray,
+    what: str,
+    *,
+    pattern: np.ndarray | None = None,
+) -> Callable[[float, np.ndarray], Any]:
+    """Forward-difference Jacobian with all columns in one batched right-hand-side call.
+
+    Parameters
+    ----------
+    rhs_batch : callable
+        ``F(t, Y)`` evaluating the derivative for a stack of states ``Y`` (n_batch, n).
+    floor : (n,) ndarray
+        Smallest state magnitude used for the step (typical scale of each state).
+    what : str
+        Model name for the error message.
+    pattern : (n, n) ndarray of bool, optional
+        Sparsity pattern; when given the Jacobian is returned as a CSC matrix.
+    """
+    from scipy.sparse import csc_matrix
+
+    def jac(t: float, y: np.ndarray):
+        h = 1.5e-8 * np.maximum(np.abs(y), floor)
+        fs = rhs_batch(t, np.vstack([y, y + np.diag(h)]))
+        jmat = ((fs[1:] - fs[0]) / h[:, None]).T
+        if not np.all(np.isfinite(jmat)):
+            raise SimulationError(f"{what}: non-finite Jacobian at t={t:.6g} s (diverged)")
+        return jmat if pattern is None else csc_matrix(np.where(pattern, jmat, 0.0))
+
+    return jac
+
+
+def raise_if_failed(sol: Any, what: str) -> None:
+    """Raise :class:`SimulationError` with the time and the solver's message if
+    ``solve_ivp`` failed (status -1)."""
+    if sol.status < 0:
+        t_fail = float(sol.t[-1]) if sol.t.size else 0.0
+        raise SimulationError(f"{what}: integration failed at t={t_fail:.6g} s: {sol.message}")
 
 
 def constant_velocity(v_mps: float) -> Profile:

@@ -45,9 +45,12 @@ from scipy.optimize import brentq
 
 from friction_model.dynamics._common import (
     Profile,
-    SimulationError,
     SimulationResult,
+    batched_fd_jacobian,
     check_in_range,
+    finite_rhs,
+    output_times,
+    raise_if_failed,
 )
 from friction_model.dynamics.rigid import (
     _G3_ELEMENT_LENGTH_M,
@@ -376,24 +379,12 @@ def simulate_euler_bernoulli(
             parts.append(rate)
         return np.concatenate(parts, axis=1)
 
-    def rhs(t: float, y: np.ndarray) -> np.ndarray:
-        out = rhs_batch(t, y[None, :])[0]
-        if not np.all(np.isfinite(out)):
-            raise SimulationError(
-                f"Euler-Bernoulli beam: the integration diverged at t={t:.6g} s "
-                "(non-finite modal accelerations)"
-            )
-        return out
-
+    rhs = finite_rhs(rhs_batch, "Euler-Bernoulli beam", "non-finite modal accelerations")
     amp = max(abs(d - pre(0.0)), 1e-6)
     floor = np.concatenate(
         [np.full(k, 1e-3 * amp), np.full(k, 1e-3 * amp * omega[0]), np.full(int(relaxed), 1e-3)]
     )
-
-    def jac(t: float, y: np.ndarray) -> np.ndarray:
-        h = 1.5e-8 * np.maximum(np.abs(y), floor)
-        fs = rhs_batch(t, np.vstack([y, y + np.diag(h)]))
-        return ((fs[1:] - fs[0]) / h[:, None]).T
+    jac = batched_fd_jacobian(rhs_batch, floor, "Euler-Bernoulli beam")
 
     y_init = np.zeros(2 * k + int(relaxed))
     if relaxed:
@@ -401,19 +392,14 @@ def simulate_euler_bernoulli(
         y_init[-1] = (
             f0["mu"][0] if initial_mu is None else check_in_range("initial_mu", initial_mu, 0, 10)
         )
-    t_eval = np.arange(0.0, t_end + 0.5 * out_step, out_step)
-    t_eval = t_eval[t_eval <= t_end]
+    t_eval = output_times(t_end, out_step)
     opts: dict[str, Any] = {"rtol": rtol, "atol": atol, "jac": jac}
     if max_step_s is not None:
         opts["max_step"] = max_step_s
     start = time.perf_counter()
     sol = solve_ivp(rhs, (0.0, t_end), y_init, method=method, t_eval=t_eval, **opts)
     runtime = time.perf_counter() - start
-    if sol.status != 0:
-        t_fail = float(sol.t[-1]) if sol.t.size else 0.0
-        raise SimulationError(
-            f"Euler-Bernoulli beam: integration failed at t={t_fail:.6g} s: {sol.message}"
-        )
+    raise_if_failed(sol, "Euler-Bernoulli beam")
 
     q, dq = sol.y[:k].T, sol.y[k : 2 * k].T
     rows = [forces(q[i : i + 1], dq[i : i + 1], float(t)) for i, t in enumerate(sol.t)]

@@ -71,14 +71,18 @@ import pandas as pd
 import scipy.linalg
 from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
-from scipy.sparse import csc_matrix, lil_matrix
+from scipy.sparse import lil_matrix
 
 from friction_model.dynamics import _rigid_eom as eom
 from friction_model.dynamics._common import (
     Profile,
     SimulationError,
     SimulationResult,
+    batched_fd_jacobian,
     check_in_range,
+    finite_rhs,
+    output_times,
+    raise_if_failed,
     surface_profile,
 )
 from friction_model.geometry import reference_block
@@ -806,40 +810,25 @@ def _simulate(
             parts.append(fr.relax_rate(mu_r, np.abs(f["v_rel"]), f["pressure"]))
         return np.concatenate(parts, axis=1)
 
-    def rhs(t: float, y: np.ndarray) -> np.ndarray:
-        out = rhs_batch(t, y[None, :])[0]
-        if not np.all(np.isfinite(out)):
-            raise SimulationError(
-                f"{name}: the integration diverged at t={t:.6g} s (non-finite accelerations "
-                "or friction); reduce the load or the time step"
-            )
-        return out
-
+    rhs = finite_rhs(
+        rhs_batch,
+        name,
+        "non-finite accelerations or friction; reduce the load or the time step",
+    )
     # Forward-difference Jacobian, all columns in one batched evaluation (the engine
     # broadcasts over a leading axis), returned sparse for large blocks (element i couples
     # only to i-1, i, i+1 through the sipe contacts).
     floor = np.concatenate([np.full(nq, 1e-3), np.full(nq, 1.0), np.full(fr.index.size, 1e-3)])
     pattern = _jac_sparsity(n, nb, fr.index).toarray().astype(bool)
     sparse_jac = method != "LSODA" and pattern.shape[0] > 60  # LSODA takes dense only
-
-    def jac(t: float, y: np.ndarray) -> np.ndarray | csc_matrix:
-        h = 1.5e-8 * np.maximum(np.abs(y), floor)
-        ys = np.vstack([y, y + np.diag(h)])
-        fs = rhs_batch(t, ys)
-        jmat = ((fs[1:] - fs[0]) / h[:, None]).T
-        if not np.all(np.isfinite(jmat)):
-            raise SimulationError(f"{name}: non-finite Jacobian at t={t:.6g} s (diverged)")
-        if sparse_jac:
-            return csc_matrix(np.where(pattern, jmat, 0.0))
-        return jmat
+    jac = batched_fd_jacobian(rhs_batch, floor, name, pattern=pattern if sparse_jac else None)
 
     def too_large(t: float, y: np.ndarray) -> float:
         return limit - float(np.max(np.abs(y[:nq])))
 
     too_large.terminal = True  # type: ignore[attr-defined]
 
-    t_eval = np.arange(0.0, t_end + 0.5 * out_step, out_step)
-    t_eval = t_eval[t_eval <= t_end]
+    t_eval = output_times(t_end, out_step)
     opts: dict[str, Any] = {"rtol": rtol, "atol": atol}
     if max_step_s is not None:
         opts["max_step"] = max_step_s
@@ -858,9 +847,7 @@ def _simulate(
             f"at t={t_hit:.6g} s: the element buckled under the normal force or the "
             "integration diverged (the rigid-bar model is meaningless beyond this angle)"
         )
-    if sol.status != 0:
-        t_fail = float(sol.t[-1]) if sol.t.size else 0.0
-        raise SimulationError(f"{name}: integration failed at t={t_fail:.6g} s: {sol.message}")
+    raise_if_failed(sol, name)
     logger.debug("%s: %d rhs evaluations in %.2f s", name, sol.nfev, runtime)
 
     data, fields = _tidy(model, sol.t, sol.y, inputs)

@@ -15,31 +15,12 @@ was evaluated, 1 when any failed (everything that succeeded is still written).
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from typing import Any
 
+from tir_contact.commands._types import non_negative_number, positive_number
+
 __all__ = ["add_parser", "run"]
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
-    return value
-
-
-def _non_negative_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(value) or value < 0:
-        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
-    return value
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -75,14 +56,14 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--mass-kg",
-        type=_non_negative_float,
+        type=non_negative_number,
         default=None,
         metavar="M",
         help="inertial mass of carriage and sample in kg (default: metadata inertial_mass_kg)",
     )
     parser.add_argument(
         "--bin-width",
-        type=_positive_float,
+        type=positive_number,
         default=0.25,
         metavar="W",
         help="velocity bin width of the instationary characteristic in m/s (default: 0.25)",

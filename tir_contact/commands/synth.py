@@ -25,9 +25,13 @@ generation fails (message on stderr), 2 for bad arguments.
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from typing import Any
+
+from tir_contact.commands._types import finite_number as _number
+from tir_contact.commands._types import non_negative_number as _non_negative
+from tir_contact.commands._types import positive_int as _positive_int
+from tir_contact.commands._types import positive_number as _positive
 
 __all__ = ["add_parser", "footage_kwargs", "measurement_effects", "run"]
 
@@ -62,40 +66,6 @@ _SPEC_FIELDS = {
 
 
 # -- argument types --------------------------------------------------------------------------
-def _number(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
-    return value
-
-
-def _positive(text: str) -> float:
-    value = _number(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
-    return value
-
-
-def _non_negative(text: str) -> float:
-    value = _number(text)
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}")
-    return value
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}")
-    return value
-
-
 def _number_list(text: str) -> tuple[float, ...]:
     parts = [p.strip() for p in text.split(",")]
     if not parts or any(not p for p in parts):
