@@ -340,7 +340,7 @@ def test_multipage_tiff_round_trip(tmp_path, compression, dtype):
     tifffile.imwrite(path, frames, compression=compression, photometric="minisblack")
     with open_footage(path) as reader:
         assert isinstance(reader, MultiPageTiffReader)
-        assert (reader._memmap is not None) == (compression is None)  # mapped when possible
+        assert (reader._contiguous is not None) == (compression is None)  # offset reads
         assert len(reader) == 6
         assert reader.bit_depth == 8 * np.dtype(dtype).itemsize
         assert_array_equal(reader.get_frame(4), frames[4])

@@ -367,7 +367,8 @@ class MultiPageTiffReader(FootageReader):
     Notes
     -----
     When the pages form one uncompressed, contiguous series (as ``tifffile.imwrite`` writes
-    a stack) the file is memory-mapped; otherwise each page is decoded when read. The frame
+    a stack) each frame is one positioned read of its bytes (no memory map, so the memory
+    used does not grow with the frames read); otherwise each page is decoded when read. The frame
     rate comes from ImageJ metadata (``fps`` or ``finterval``) when present, else None.
     ``bit_depth`` is the TIFF ``BitsPerSample``. Colour pages (RGB) are converted to grey.
     """
@@ -400,25 +401,36 @@ class MultiPageTiffReader(FootageReader):
             raise FootageError(f"{file}: TIFF file holds no page (truncated?)", file)
         first_page = pages.first
         self._axes = first_page.axes
-        self._memmap: np.ndarray | None = None
+        self._contiguous: tuple[int, int, np.dtype[Any], tuple[int, ...]] | None = None
         try:
-            if len(tif.series) == 1 and tif.series[0].dataoffset is not None:
-                import tifffile
-
-                mapped = tifffile.memmap(file, series=0, mode="r")
-                if mapped.size == self._length * int(np.prod(first_page.shape)):
-                    self._memmap = mapped.reshape((self._length, *first_page.shape))
+            series = tif.series[0]
+            if len(tif.series) == 1 and series.dataoffset is not None:
+                shape = tuple(int(n) for n in first_page.shape)
+                dtype = np.dtype(series.dtype).newbyteorder(tif.byteorder)
+                nbytes = int(np.prod(shape)) * dtype.itemsize
+                if int(np.prod(series.shape)) == self._length * int(np.prod(shape)):
+                    self._contiguous = (int(series.dataoffset), nbytes, dtype, shape)
         except Exception as exc:
-            logger.debug("%s: not memory-mapped (%s)", file, one_line(exc))
-        if self._memmap is not None:
-            logger.debug("%s: memory-mapped, %d pages", file, self._length)
+            logger.debug("%s: pages decoded one by one (%s)", file, one_line(exc))
+        if self._contiguous is not None:
+            # one positioned read per frame: as fast as a memory map, but the pages read do
+            # not stay resident, so memory does not grow with the length of the video
+            self._fd = os.open(file, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+            logger.debug("%s: contiguous, %d pages read by offset", file, self._length)
         first = self._read(0)
         self._set_format(first, bit_depth=int(first_page.bitspersample))
         self._frame_rate = _imagej_rate(tif)
 
     def _read(self, index: int) -> np.ndarray:
-        if self._memmap is not None:
-            image = np.array(self._memmap[index])
+        if self._contiguous is not None:
+            offset, nbytes, dtype, shape = self._contiguous
+            data = os.pread(self._fd, nbytes, offset + index * nbytes)
+            if len(data) != nbytes:
+                raise FootageError(
+                    f"{self._frame_name(index)}: truncated page ({len(data)} of {nbytes} bytes)",
+                    self.path,
+                )
+            image = np.frombuffer(data, dtype).reshape(shape).astype(dtype.newbyteorder("="))
             axes = self._axes
         else:
             try:
@@ -438,7 +450,9 @@ class MultiPageTiffReader(FootageReader):
         return f"{self._name()} (page {index})"
 
     def _release(self) -> None:
-        self._memmap = None
+        if self._contiguous is not None:
+            os.close(self._fd)
+            self._contiguous = None
         self._tif.close()
 
 

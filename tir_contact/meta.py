@@ -163,8 +163,10 @@ def find_meta(path: str | os.PathLike[str]) -> Path | None:
     Parameters
     ----------
     path : str or os.PathLike
-        A ``.json`` file (taken as it is), a folder (``folder/meta.json``) or a footage file
-        (``<name>.meta.json`` beside it, else ``meta.json`` beside it).
+        A ``.json`` file (taken as it is), a folder (``folder/meta.json``, else the parent's
+        ``meta.json`` when its ``frame_pattern`` points into this folder, as in a synthetic
+        clip's ``frames/``) or a footage file (``<name>.meta.json`` beside it, else
+        ``meta.json`` beside it).
 
     Returns
     -------
@@ -176,11 +178,23 @@ def find_meta(path: str | os.PathLike[str]) -> Path | None:
         return path
     if path.is_dir():
         candidate = path / META_FILENAME
-        return candidate if candidate.is_file() else None
+        if candidate.is_file():
+            return candidate
+        parent = path.parent / META_FILENAME  # frames/ inside a clip folder (synthetic layout)
+        return parent if parent.is_file() and _names_folder(parent, path.name) else None
     for candidate in (path.with_name(path.name + ".meta.json"), path.with_name(META_FILENAME)):
         if candidate.is_file():
             return candidate
     return None
+
+
+def _names_folder(meta_path: Path, folder: str) -> bool:
+    """True when `meta_path` gives a ``frame_pattern`` inside the sub-folder `folder`."""
+    try:
+        pattern = json.loads(meta_path.read_text(encoding="utf-8")).get("frame_pattern")
+    except (OSError, ValueError, AttributeError):
+        return False
+    return isinstance(pattern, str) and Path(pattern).parts[:1] == (folder,)
 
 
 def _meta_target(path: Path) -> Path:
