@@ -10,7 +10,14 @@ Metadata (:mod:`tir_contact.meta`)
     :func:`load_meta`.
 Reference and segmentation (:mod:`tir_contact.calibrate`, :mod:`tir_contact.segment`)
     :func:`reference_from_frames`, :func:`reference_from_frame`, :func:`darkness`,
-    :class:`Reference`, :func:`segment_frame`, :class:`FrameContact`.
+    :class:`Reference`, :func:`segment_frame`, :class:`FrameContact`, :func:`region_table`.
+Features (:mod:`tir_contact.features`, :mod:`tir_contact.side`)
+    :class:`BlockLayout`, :func:`tir_frame_features`, :func:`tir_frame_records`,
+    :class:`FrameFeatures`, :func:`side_frame_features`, :func:`side_darkness`,
+    :class:`SideFeatures`.
+Whole videos and batches (:mod:`tir_contact.analyze`, :mod:`tir_contact.batch`)
+    :func:`analyze_video`, :class:`AnalysisOptions`, :class:`VideoAnalysis`,
+    :func:`find_footage`, :func:`analyze_batch`, :class:`BatchReport`.
 
 The friction model and the test-rig evaluation are in the sibling package
 :mod:`friction_model`; synthetic data in :mod:`synthetic`.
@@ -42,6 +49,20 @@ _LAZY = {
     "FrameContact": "tir_contact.segment",
     "segment_frame": "tir_contact.segment",
     "open_footage": "tir_contact.io",
+    "region_table": "tir_contact.segment",
+    "BlockLayout": "tir_contact.features",
+    "FrameFeatures": "tir_contact.features",
+    "tir_frame_features": "tir_contact.features",
+    "tir_frame_records": "tir_contact.features",
+    "SideFeatures": "tir_contact.side",
+    "side_darkness": "tir_contact.side",
+    "side_frame_features": "tir_contact.side",
+    "AnalysisOptions": "tir_contact.analyze",
+    "VideoAnalysis": "tir_contact.analyze",
+    "analyze_video": "tir_contact.analyze",
+    "BatchReport": "tir_contact.batch",
+    "analyze_batch": "tir_contact.batch",
+    "find_footage": "tir_contact.batch",
 }
 
 __all__ = ["__version__", *sorted(_LAZY)]

@@ -9,12 +9,13 @@ dropped (noise, dust), and the rest are labelled as 8-connected regions.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import pandas as pd
 
-__all__ = ["FrameContact", "estimate_contrast", "segment_frame"]
+__all__ = ["FrameContact", "estimate_contrast", "region_arrays", "region_table", "segment_frame"]
 
 
 def estimate_contrast(d: np.ndarray, *, min_darkness: float = 0.25) -> float:
@@ -51,23 +52,36 @@ class FrameContact:
     mask : (M, N) ndarray of bool
         Contact pixels.
     labels : (M, N) ndarray of int32
-        Region label per pixel (0 = no contact).
-    regions : pandas.DataFrame
-        One row per region: ``label, area_px, centroid_x_px, centroid_y_px, bbox_x0_px,
-        bbox_y0_px, bbox_width_px, bbox_height_px, mean_darkness``.
+        Region label per pixel (0 = no contact), numbered 1..n_regions in scan order.
     threshold : float
         Darkness threshold used (NaN when the frame has no contact).
+    n_regions : int
+        Number of contact regions.
+    darkness : (M, N) ndarray of float, optional
+        The darkness the contact was segmented from (for the regions' mean darkness).
+
+    Notes
+    -----
+    :attr:`regions` (the per-region table) is computed on first access, so a pipeline
+    that needs only the mask and the count does not pay for it.
     """
 
     mask: np.ndarray
     labels: np.ndarray
-    regions: pd.DataFrame
     threshold: float
+    n_regions: int = 0
+    darkness: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def area_px(self) -> int:
         """Total contact area, px."""
         return int(self.mask.sum())
+
+    @cached_property
+    def regions(self) -> pd.DataFrame:
+        """One row per region: ``label, area_px, centroid_x_px, centroid_y_px, bbox_x0_px,
+        bbox_y0_px, bbox_width_px, bbox_height_px, mean_darkness``."""
+        return region_table(self.labels, self.n_regions, self.darkness)
 
 
 _REGION_COLUMNS = [
@@ -83,6 +97,73 @@ _REGION_COLUMNS = [
 ]
 
 
+def region_arrays(
+    labels: np.ndarray, n_regions: int, d: np.ndarray | None = None
+) -> dict[str, np.ndarray]:
+    """Columns of :func:`region_table` as arrays (no DataFrame is built).
+
+    Examples
+    --------
+    >>> lab = np.zeros((4, 5), np.int32); lab[1:3, 1:4] = 1
+    >>> region_arrays(lab, 1)["area_px"].tolist()
+    [6.0]
+    """
+    from scipy import ndimage
+
+    if n_regions == 0:
+        return {c: np.zeros(0) for c in _REGION_COLUMNS}
+    flat = labels.ravel()
+    on = np.flatnonzero(flat)
+    lab = flat[on]
+    ys, xs = np.divmod(on, labels.shape[1])
+    m = n_regions + 1
+    area = np.bincount(lab, minlength=m)[1:].astype(float)
+    if d is not None:
+        mean_d = np.bincount(lab, weights=d.ravel()[on], minlength=m)[1:] / area
+    else:
+        mean_d = np.full(n_regions, np.nan)
+    boxes = ndimage.find_objects(labels, max_label=n_regions)
+    return {
+        "label": np.arange(1, n_regions + 1),
+        "area_px": area,
+        "centroid_x_px": np.bincount(lab, weights=xs, minlength=m)[1:] / area,
+        "centroid_y_px": np.bincount(lab, weights=ys, minlength=m)[1:] / area,
+        "bbox_x0_px": np.array([b[1].start for b in boxes], float),
+        "bbox_y0_px": np.array([b[0].start for b in boxes], float),
+        "bbox_width_px": np.array([b[1].stop - b[1].start for b in boxes], float),
+        "bbox_height_px": np.array([b[0].stop - b[0].start for b in boxes], float),
+        "mean_darkness": mean_d,
+    }
+
+
+def region_table(labels: np.ndarray, n_regions: int, d: np.ndarray | None = None) -> pd.DataFrame:
+    """Area, centroid, bounding box and mean darkness of each labelled region.
+
+    Parameters
+    ----------
+    labels : (M, N) ndarray of int
+        Region labels 1..n_regions, 0 for background.
+    n_regions : int
+        Number of regions.
+    d : (M, N) ndarray of float, optional
+        Darkness, for ``mean_darkness`` (NaN without it).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``label, area_px, centroid_x_px, centroid_y_px, bbox_x0_px, bbox_y0_px,
+        bbox_width_px, bbox_height_px, mean_darkness``; pixel centres at integer
+        coordinates.
+
+    Examples
+    --------
+    >>> lab = np.zeros((4, 5), np.int32); lab[1:3, 1:4] = 1
+    >>> region_table(lab, 1)[["area_px", "centroid_x_px", "bbox_width_px"]].values.tolist()
+    [[6.0, 2.0, 3.0]]
+    """
+    return pd.DataFrame(region_arrays(labels, n_regions, d), columns=_REGION_COLUMNS)
+
+
 def segment_frame(
     d: np.ndarray,
     *,
@@ -95,7 +176,7 @@ def segment_frame(
     Parameters
     ----------
     d : (M, N) ndarray of float
-        Darkness, 0 on the free surface (NaN where excluded).
+        Darkness, 0 on the free surface (NaN or 0 where excluded).
     contrast : float, optional
         Contact contrast; estimated from the frame (:func:`estimate_contrast`) when
         omitted. The threshold is ``contrast / 2``.
@@ -111,6 +192,9 @@ def segment_frame(
     Notes
     -----
     Pixel coordinates: x to the right, y down, origin at the top-left pixel's centre.
+    Connected components (8-connected) are labelled only inside the bounding box of the
+    pixels above threshold; this is what makes the segmentation cheap on frames where the
+    contact covers a small part of the image.
 
     Examples
     --------
@@ -126,36 +210,26 @@ def segment_frame(
         raise ValueError(f"min_area_px must be >= 1, got min_area_px={min_area_px!r}")
     c = estimate_contrast(d, min_darkness=min_darkness) if contrast is None else float(contrast)
     empty = np.zeros(d.shape, bool)
+    labels = np.zeros(d.shape, np.int32)
     if not np.isfinite(c):
-        return FrameContact(
-            empty, np.zeros(d.shape, np.int32), pd.DataFrame(columns=_REGION_COLUMNS), np.nan
-        )
+        return FrameContact(empty, labels, np.nan, 0, d)
     threshold = max(0.5 * c, 0.5 * min_darkness)
-    raw = np.nan_to_num(d, nan=0.0) >= threshold
-    n, labels, stats, centroids = cv2.connectedComponentsWithStats(
-        raw.astype(np.uint8), connectivity=8
-    )
-    keep = np.zeros(n, bool)
-    keep[1:] = stats[1:, cv2.CC_STAT_AREA] >= min_area_px
-    remap = np.zeros(n, np.int32)
-    remap[keep] = np.arange(1, keep.sum() + 1)
-    labels = remap[labels]
+    with np.errstate(invalid="ignore"):
+        raw = d >= threshold  # NaN compares False: excluded pixels are never contact
+    cols = np.flatnonzero(raw.any(axis=0))
+    if cols.size == 0:
+        return FrameContact(empty, labels, threshold, 0, d)
+    rows = np.flatnonzero(raw[:, cols[0] : cols[-1] + 1].any(axis=1))
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    n, lab = cv2.connectedComponents(raw[box].view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    area = np.bincount(lab.ravel(), minlength=n)
+    keep = area >= min_area_px
+    keep[0] = False
+    if not keep[1:].all():
+        remap = np.zeros(n, np.int32)
+        remap[keep] = np.arange(1, int(keep.sum()) + 1)
+        lab = remap[lab]
+    n_regions = int(keep.sum())
+    labels[box] = lab
     mask = labels > 0
-    idx = np.flatnonzero(keep)
-    sums = np.bincount(labels.ravel(), weights=np.nan_to_num(d, nan=0.0).ravel(),
-                       minlength=len(idx) + 1)
-    regions = pd.DataFrame(
-        {
-            "label": np.arange(1, len(idx) + 1),
-            "area_px": stats[idx, cv2.CC_STAT_AREA],
-            "centroid_x_px": centroids[idx, 0],
-            "centroid_y_px": centroids[idx, 1],
-            "bbox_x0_px": stats[idx, cv2.CC_STAT_LEFT],
-            "bbox_y0_px": stats[idx, cv2.CC_STAT_TOP],
-            "bbox_width_px": stats[idx, cv2.CC_STAT_WIDTH],
-            "bbox_height_px": stats[idx, cv2.CC_STAT_HEIGHT],
-            "mean_darkness": sums[1:] / np.maximum(stats[idx, cv2.CC_STAT_AREA], 1),
-        },
-        columns=_REGION_COLUMNS,
-    )
-    return FrameContact(mask, labels, regions, threshold)
+    return FrameContact(mask, labels, threshold, n_regions, d)

@@ -1,0 +1,175 @@
+"""Speed and memory of the TIR contact analysis (``tir_contact.analyze``).
+
+Prints, for a 2000-frame 640 x 256 8-bit TIR video (multi-page TIFF, G3 at 1 m/s from the
+synthetic renderer, the 400-frame pass repeated):
+
+* frames/s of the whole analysis (reference, segmentation, features, tables) on one core
+  and with all cores (a batch of one copy per core, processes);
+* its ratio against (a) the bare cost of reading each frame and thresholding it with OpenCV
+  and (b) a straightforward per-frame scikit-image implementation (threshold_otsu,
+  remove_small_objects, regionprops), all measured in this run on the same file;
+* peak resident memory of the analysis for 2000 and 8000 frames (each in a fresh process),
+  which must not grow with the video length.
+
+Target: >= 1000 frames/s per core, within 10x of the bare read-and-threshold pass.
+
+Run: ``python benchmarks/bench_analyze.py [--frames 2000] [--long 8000]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def make_video(folder: Path, n_frames: int, base: list[np.ndarray], meta: dict) -> Path:
+    """Write a multi-page TIFF cycling through `base` frames, with its meta.json."""
+    import tifffile
+
+    path = folder / f"tir_{n_frames}.tif"
+    with tifffile.TiffWriter(path, bigtiff=True) as tif:
+        for k in range(n_frames):
+            tif.write(base[k % len(base)], contiguous=True)
+    m = dict(meta)
+    m.pop("frame_pattern", None)
+    m["n_frames"] = n_frames
+    path.with_name(path.name + ".meta.json").write_text(json.dumps(m))
+    return path
+
+
+def render_base(n: int = 400) -> tuple[list[np.ndarray], dict]:
+    from synthetic.footage import FootageSpec, render_footage
+
+    with tempfile.TemporaryDirectory() as tmp:
+        spec = FootageSpec(preset="G3", velocity_mps=1.0, n_frames=n, dynamics="steady")
+        render_footage(spec, tmp, fmt="multitiff", progress=False)
+        import tifffile
+
+        frames = list(tifffile.imread(Path(tmp) / "footage.tif"))
+        meta = json.loads((Path(tmp) / "meta.json").read_text())
+    return frames, meta
+
+
+def bare_opencv(path: Path) -> float:
+    import cv2
+
+    from tir_contact.io import open_footage
+
+    t0 = time.perf_counter()
+    n = 0
+    with open_footage(path) as reader:
+        for frame in reader:
+            cv2.threshold(frame, 128, 255, cv2.THRESH_BINARY_INV)
+            n += 1
+    return n / (time.perf_counter() - t0)
+
+
+def skimage_per_frame(path: Path, limit: int = 300) -> float:
+    from skimage.filters import threshold_otsu
+    from skimage.measure import label, regionprops
+    from skimage.morphology import remove_small_objects
+
+    from tir_contact.io import open_footage
+
+    t0 = time.perf_counter()
+    with open_footage(path) as reader:
+        n = min(limit, len(reader))
+        for k in range(n):
+            frame = reader.get_frame(k)
+            mask = frame < threshold_otsu(frame)
+            mask = remove_small_objects(mask, 4)
+            regionprops(label(mask))
+    return n / (time.perf_counter() - t0)
+
+
+def _child(path: str, single_core: bool) -> None:
+    """Run in a fresh process: analyse, print frames/s and peak RSS as JSON."""
+    import resource
+
+    if single_core:
+        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
+        import cv2
+
+        cv2.setNumThreads(1)
+    from tir_contact.analyze import AnalysisOptions, analyze_video
+
+    options = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0)
+    t0 = time.perf_counter()
+    result = analyze_video(path, options=options)
+    elapsed = time.perf_counter() - t0
+    rss_mib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps({"fps": len(result.frames) / elapsed, "rss_mib": rss_mib,
+                      "frames": len(result.frames)}))
+
+
+def run_child(path: Path, single_core: bool = True) -> dict:
+    env = dict(os.environ, OMP_NUM_THREADS="1" if single_core else "", OPENBLAS_NUM_THREADS="1")
+    out = subprocess.run(
+        [sys.executable, __file__, "--child", str(path)] + (["--single"] if single_core else []),
+        capture_output=True, text=True, env=env, check=True,
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def all_cores(path: Path, n_cores: int) -> float:
+    """Frames/s of a batch of `n_cores` copies on `n_cores` processes."""
+    from tir_contact.analyze import AnalysisOptions
+    from tir_contact.batch import Footage, analyze_batch
+
+    options = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0, parquet=False)
+    with tempfile.TemporaryDirectory() as out:
+        items = [Footage(path, f"copy{i}") for i in range(n_cores)]
+        t0 = time.perf_counter()
+        report = analyze_batch(items, out, options=options, workers=n_cores, progress=False)
+        elapsed = time.perf_counter() - t0
+    assert report.ok, report.failed
+    return sum(v.n_frames for v in report.videos) / elapsed
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--frames", type=int, default=2000)
+    ap.add_argument("--long", type=int, default=8000)
+    ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--single", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child:
+        _child(args.child, args.single)
+        return
+    n_cores = len(os.sched_getaffinity(0))
+    print("rendering a 400-frame pass (G3, 1 m/s, 640x256, 8 bit) ... ", end="", flush=True)
+    base, meta = render_base()
+    print("done")
+    with tempfile.TemporaryDirectory() as tmp:
+        video = make_video(Path(tmp), args.frames, base, meta)
+        bare = bare_opencv(video)
+        skim = skimage_per_frame(video)
+        one = run_child(video, single_core=True)
+        many = all_cores(video, n_cores)
+        print(f"\n{args.frames}-frame 640x256 8-bit TIR video, {n_cores} cores")
+        print(f"  analysis, one core        {one['fps']:8.0f} frames/s")
+        print(f"  analysis, {n_cores} cores (batch)  {many:8.0f} frames/s "
+              f"({many / one['fps']:.2f}x one core)")
+        print(f"  (a) read + cv2.threshold  {bare:8.0f} frames/s -> analysis costs "
+              f"{bare / one['fps']:.1f}x the bare pass (target <= 10x)")
+        print(f"  (b) scikit-image per frame {skim:7.0f} frames/s -> analysis is "
+              f"{one['fps'] / skim:.1f}x faster")
+        print(f"  target >= 1000 frames/s per core: {'met' if one['fps'] >= 1000 else 'NOT met'}")
+        long_video = make_video(Path(tmp), args.long, base, meta)
+        rss_short = one["rss_mib"]
+        rss_long = run_child(long_video, single_core=True)["rss_mib"]
+        print(f"\npeak RSS: {args.frames} frames {rss_short:.0f} MiB, {args.long} frames "
+              f"{rss_long:.0f} MiB (ratio {rss_long / rss_short:.2f}; the result tables grow "
+              "with the frames, the frames themselves are streamed)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,249 @@
+"""Per-video analysis and the batch CLI: outputs, ground truth, broken input, resume.
+
+Truth: the synthetic renderer's ``ground_truth.csv`` (exact model geometry before any camera
+effect). Clips are small (0.2 mm/px, 320 x 128 px) so the module renders in a few seconds.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from synthetic.footage import CameraSettings, FootageSpec, render_footage
+from tir_contact.analyze import ELEMENT_COLUMNS, FRAME_COLUMNS, AnalysisOptions, analyze_video
+from tir_contact.batch import analyze_batch, find_footage, is_current
+from tir_contact.cli import main
+
+SMALL = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128)
+ISSUE_FRAME_COLUMNS = [
+    "frame", "time_s", "block_in_view", "block_front_x_mm", "contact_area_mm2",
+    "contact_ratio", "n_elements_in_contact", "front_peak_x_mm", "front_peak_contrast",
+]
+ISSUE_ELEMENT_COLUMNS = [
+    "frame", "time_s", "element", "contact_area_mm2", "contact_length_mm", "front_edge_x_mm",
+    "front_peak_x_mm", "front_peak_contrast", "liftoff_mm", "deflection_angle_deg",
+]
+FAST = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0, parquet=False)
+
+
+def _render(folder: Path, fmt: str = "png", **kw) -> Path:
+    spec = FootageSpec(**{"preset": "G3", "velocity_mps": 3.0, "n_frames": 160,
+                          "dynamics": "steady", "camera": SMALL, **kw})
+    render_footage(spec, folder, fmt=fmt, progress=False)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def clip(tmp_path_factory) -> Path:
+    return _render(tmp_path_factory.mktemp("clips") / "G3_3mps")
+
+
+@pytest.fixture(scope="module")
+def analysed(clip, tmp_path_factory) -> tuple[Path, Path]:
+    out = tmp_path_factory.mktemp("out")
+    code = main(["analyze", str(clip), "--out", str(out), "--workers", "1", "--no-progress"])
+    assert code == 0
+    return clip, out / clip.name
+
+
+def test_outputs_have_the_issue_columns_and_files(analysed):
+    _, res = analysed
+    frames = pd.read_csv(res / "frames.csv")
+    elements = pd.read_csv(res / "elements.csv")
+    assert list(frames.columns[:9]) == ISSUE_FRAME_COLUMNS
+    assert list(elements.columns[:10]) == ISSUE_ELEMENT_COLUMNS
+    assert list(frames.columns) == FRAME_COLUMNS[: len(frames.columns)] or set(
+        FRAME_COLUMNS) <= set(frames.columns)
+    assert set(ELEMENT_COLUMNS) <= set(elements.columns)
+    assert not (res / "regions.csv").exists()  # with block geometry only on request
+    for name in ("summary.json", "contact.png", "elements.png", "overlay.avi"):
+        assert (res / name).is_file(), name
+    assert len(list((res / "overlays").glob("frame_*.png"))) >= 3
+    summary = json.loads((res / "summary.json").read_text())
+    assert summary["complete"] is True and summary["skipped_frames"] == []
+    assert summary["reference"]["method"] == "percentile"
+    assert summary["steady"]["n_frames"] == summary["frames_with_whole_block"] > 0
+    # no staging folders left behind
+    assert not [p for p in res.parent.iterdir() if p.name.startswith(".")]
+
+
+def test_area_against_ground_truth(analysed):
+    """Median relative error of the block contact area <= 2 % (issue requirement)."""
+    clip, res = analysed
+    frames = pd.read_csv(res / "frames.csv").set_index("frame")
+    truth = pd.read_csv(clip / "ground_truth.csv")
+    block = truth[truth.element == -1].set_index("frame")
+    inside = block.index[block.in_view & (block.contact_area_mm2 > 20)]
+    rel = (frames.loc[inside, "contact_area_mm2"] - block.loc[inside, "contact_area_mm2"]).abs()
+    rel /= block.loc[inside, "contact_area_mm2"]
+    assert rel.median() <= 0.02
+    # frames without the block are reported as such
+    empty = block.index[~block.in_view]
+    assert len(empty) > 5
+    assert not frames.loc[empty, "block_in_view"].astype(bool).any()
+    assert (frames.loc[empty, "contact_area_mm2"] == 0).all()
+
+
+def test_steady_summary_matches_truth(analysed):
+    clip, res = analysed
+    summary = json.loads((res / "summary.json").read_text())
+    truth = pd.read_csv(clip / "ground_truth.csv")
+    frames = pd.read_csv(res / "frames.csv")
+    full = frames.loc[frames.block_fully_in_view.astype(bool), "frame"]
+    t = truth[(truth.element == -1) & truth.frame.isin(full)]
+    mean = summary["steady"]["contact_area_mm2"]["mean"]
+    assert mean == pytest.approx(t.contact_area_mm2.mean(), rel=0.02)
+
+
+def test_without_geometry_every_region_is_reported(clip, tmp_path):
+    """Any TIR footage (no block): regions with area, centroid and box; no element table."""
+    meta = json.loads((clip / "meta.json").read_text())
+    del meta["block"]
+    folder = tmp_path / "plain"
+    shutil.copytree(clip / "frames", folder)
+    (folder / "meta.json").write_text(json.dumps(meta))
+    res = analyze_video(folder, tmp_path / "out", options=FAST)
+    assert (tmp_path / "out" / "plain" / "regions.csv").is_file()
+    assert res.elements.empty
+    truth = pd.read_csv(clip / "ground_truth.csv")
+    el = truth[(truth.element >= 0) & truth.in_view].groupby("frame").size()
+    regions = res.regions.groupby("frame").size()
+    both = el.index.intersection(regions.index)
+    # one region per element in contact (G3: up to 4 strips), in most frames
+    assert (regions.loc[both] == el.loc[both]).mean() >= 0.9
+    per_frame = res.regions.groupby("frame").area_mm2.sum()
+    frames = res.frames.set_index("frame")
+    assert np.allclose(per_frame, frames.loc[per_frame.index, "contact_area_mm2"])
+
+
+def test_clip_folder_and_frames_folder_are_the_same_footage(clip, tmp_path):
+    a = analyze_video(clip / "frames", options=FAST)
+    items = find_footage([clip])
+    assert items[0].path == clip / "frames" and items[0].name == clip.name
+    b = analyze_video(items[0].path, options=FAST)
+    pd.testing.assert_frame_equal(a.frames, b.frames)
+
+
+def _broken_tree(root: Path, good: Path) -> dict[str, str]:
+    """A tree with one good clip and one of each broken kind; returns name -> error words."""
+    shutil.copytree(good, root / "good")
+    (root / "empty").mkdir()  # a footage folder whose frames are missing
+    meta = json.loads((good / "meta.json").read_text())
+    del meta["frame_pattern"]
+    (root / "empty" / "meta.json").write_text(json.dumps(meta))
+    # frames with a stray non-image file
+    stray = root / "stray"
+    shutil.copytree(good / "frames", stray)
+    shutil.copy(good / "meta.json", stray / "meta.json")
+    (stray / "notes.docx").write_bytes(b"x")
+    # a truncated frame in the middle: the video finishes with that frame skipped
+    trunc = root / "trunc"
+    shutil.copytree(good / "frames", trunc)
+    shutil.copy(good / "meta.json", trunc / "meta.json")
+    f = sorted(trunc.glob("*.png"))[50]
+    f.write_bytes(f.read_bytes()[:100])
+    # mixed sizes
+    mixed = root / "mixed"
+    shutil.copytree(good / "frames", mixed)
+    shutil.copy(good / "meta.json", mixed / "meta.json")
+    import cv2
+
+    cv2.imwrite(str(sorted(mixed.glob("*.png"))[10]), np.zeros((10, 10), np.uint8))
+    # meta.json that is not JSON, and one with a wrong type
+    for name, text in (("notjson", "{fps: 4000"), ("wrongtype", None)):
+        d = root / name
+        shutil.copytree(good / "frames", d)
+        if text is None:
+            meta = json.loads((good / "meta.json").read_text())
+            meta["fps"] = "fast"
+            text = json.dumps(meta)
+        (d / "meta.json").write_text(text)
+    # a video with zero frames
+    zero = root / "zero"
+    zero.mkdir()
+    (zero / "clip.avi").write_bytes(b"")
+    return {"empty": "no image files", "stray": "notes.docx", "trunc": "frame",
+            "mixed": "differs", "notjson": "JSON", "wrongtype": "fps", "clip": "clip.avi"}
+
+
+def test_batch_survives_every_kind_of_broken_video(clip, tmp_path, capsys):
+    root = tmp_path / "tree"
+    root.mkdir()
+    expected = _broken_tree(root, clip)
+    out = tmp_path / "out"
+    code = main(["analyze", str(root), "--recursive", "--out", str(out), "--workers", "2",
+                 "--no-progress", "--no-overlay-video", "--overlay-frames", "0", "--no-plots"])
+    assert code == 1
+    report = pd.read_csv(out / "batch_report.csv").set_index("name")
+    assert report.loc["good", "status"] == "done"
+    assert (out / "good" / "frames.csv").is_file()
+    assert report.loc["trunc", "status"] == "partial"  # results kept, frame 50 skipped
+    trunc = pd.read_csv(out / "trunc" / "frames.csv")
+    assert 50 not in set(trunc.frame) and len(trunc) == 159
+    for name, words in expected.items():
+        assert name in report.index, name
+        message = report.loc[name, "message"]
+        assert words.lower() in message.lower(), (name, message)
+        assert "\n" not in message
+        # a corrupt or odd-sized frame is skipped and named; the rest of the video is kept
+        status = "partial" if name in ("trunc", "mixed") else "failed"
+        assert report.loc[name, "status"] == status, name
+    err = capsys.readouterr().err
+    assert "notes.docx" in err
+
+
+def test_empty_folder_given_directly_is_a_one_line_error(tmp_path, capsys):
+    (tmp_path / "nothing").mkdir()
+    code = main(["analyze", str(tmp_path / "nothing"), "--out", str(tmp_path / "out"),
+                 "--no-progress"])
+    assert code == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no image files" in err[0] and "nothing" in err[0]
+
+
+def test_resume_skips_current_results_and_redoes_changed_ones(clip, tmp_path):
+    src = tmp_path / "clip"
+    shutil.copytree(clip, src)
+    out = tmp_path / "out"
+    items = find_footage([src])
+    first = analyze_batch(items, out, options=FAST, workers=1, progress=False)
+    assert first.ok and is_current(items[0], out)
+    again = analyze_batch(items, out, options=FAST, workers=1, progress=False, resume=True)
+    assert [v.status for v in again.videos] == ["resumed"]
+    (src / "meta.json").write_text((src / "meta.json").read_text() + " ")  # footage changed
+    assert not is_current(items[0], out)
+    third = analyze_batch(items, out, options=FAST, workers=1, progress=False, resume=True)
+    assert [v.status for v in third.videos] == ["done"]
+
+
+def test_a_failure_while_writing_keeps_the_old_result(clip, tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    analyze_video(clip, out, options=FAST)
+    before = (out / clip.name / "frames.csv").read_bytes()
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr("tir_contact.plots.plot_video_results", boom)
+    with pytest.raises(RuntimeError):
+        analyze_video(clip, out, options=AnalysisOptions(overlay_video=False, parquet=False))
+    assert (out / clip.name / "frames.csv").read_bytes() == before
+    assert [p.name for p in out.iterdir()] == [clip.name]
+
+
+def test_block_that_never_leaves_uses_per_frame_background(tmp_path):
+    """A clip showing only the middle of the pass: the percentile reference holds the block."""
+    folder = _render(tmp_path / "stay", n_frames=12, center_time_s=0.0015)
+    truth = pd.read_csv(folder / "ground_truth.csv")
+    block = truth[truth.element == -1].set_index("frame")
+    assert block.in_view.all()
+    res = analyze_video(folder, options=FAST)
+    assert res.summary["reference"]["method"].startswith("per-frame")
+    rel = (res.frames.set_index("frame").contact_area_mm2 - block.contact_area_mm2).abs()
+    # per-frame background (closing) is rougher than a clean reference: 5 % allowed
+    assert (rel / block.contact_area_mm2).median() <= 0.05

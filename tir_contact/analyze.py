@@ -1,0 +1,856 @@
+"""Analyse one video: footage in, per-frame and per-element contact numbers out.
+
+The pass over the footage is streamed: a first pass reads at most ``reference_frames``
+frames spread through the video for the free-surface reference and the contact contrast, the
+second reads one frame at a time. Memory does not grow with the video length; only the
+result tables (one row per frame and per element) do.
+
+TIR view (thesis section 4.3.6): darkness ``D = 1 - I / I_ref`` against the free-surface
+reference (:mod:`tir_contact.calibrate`), contact where ``D`` reaches half the contact
+contrast (:mod:`tir_contact.segment`), then block position, elements, front-edge peaks,
+lift-off and deflection (:mod:`tir_contact.features`). Side view: element chords and
+deflection angles (:mod:`tir_contact.side`).
+
+Reference. Each pixel's 90th percentile over the sampled frames (the sliding block covers a
+pixel in a minority of them). When the block never leaves the view (or there are fewer than
+5 frames), that percentile still holds the block: this is detected (a dark region larger than
+``min_block_fraction`` of the image relative to a morphological closing of the reference) and
+the background is then estimated from each frame itself
+(:func:`tir_contact.calibrate.reference_from_frame`). The method used is in ``summary.json``.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import time
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from tir_contact._readers import IMAGE_SUFFIXES, FootageError
+from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
+from tir_contact.meta import META_FILENAME
+from tir_contact.segment import estimate_contrast, region_arrays, segment_frame
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "ELEMENT_COLUMNS",
+    "FRAME_COLUMNS",
+    "AnalysisOptions",
+    "VideoAnalysis",
+    "analyze_video",
+    "output_name",
+    "resolve_footage",
+]
+
+#: Columns of ``frames.csv``, in order (the first nine are those of the issue, then extras).
+FRAME_COLUMNS = [
+    "frame",
+    "time_s",
+    "block_in_view",
+    "block_front_x_mm",
+    "contact_area_mm2",
+    "contact_ratio",
+    "n_elements_in_contact",
+    "front_peak_x_mm",
+    "front_peak_contrast",
+    "block_fully_in_view",
+    "n_regions",
+    "deflection_angle_deg",
+    "tip_deflection_mm",
+]
+
+#: Columns of ``elements.csv``, in order (element 0 leads).
+ELEMENT_COLUMNS = [
+    "frame",
+    "time_s",
+    "element",
+    "contact_area_mm2",
+    "contact_length_mm",
+    "front_edge_x_mm",
+    "front_peak_x_mm",
+    "front_peak_contrast",
+    "liftoff_mm",
+    "deflection_angle_deg",
+    "front_peak_width_mm",
+    "tip_deflection_mm",
+]
+
+#: Columns of ``regions.csv`` (every contact region, no geometry needed).
+REGION_COLUMNS = [
+    "frame",
+    "time_s",
+    "region",
+    "area_mm2",
+    "centroid_x_mm",
+    "centroid_y_mm",
+    "bbox_x0_mm",
+    "bbox_y0_mm",
+    "bbox_width_mm",
+    "bbox_height_mm",
+    "mean_darkness",
+]
+
+#: Files that make a result complete (``--resume`` checks them).
+RESULT_FILES = ("frames.csv", "elements.csv", "summary.json")
+
+_RESULT_VERSION = 1
+
+
+@dataclass(frozen=True)
+class AnalysisOptions:
+    """Settings of the analysis (all have defaults that suit the synthetic footage).
+
+    Parameters
+    ----------
+    reference : str or Path, optional
+        Image file of the free surface (no block); built from the footage when omitted.
+    reference_frames : int
+        Frames sampled for the reference and the contrast (spread through the video).
+    percentile : float
+        Per-pixel percentile of the sampled frames taken as the free surface.
+    contrast : float, optional
+        Contact darkness; the threshold is half of it. Estimated from the sampled frames
+        (median darkness of clearly dark pixels) when omitted.
+    min_darkness : float
+        Darkness above which a pixel is surely contact (see
+        :func:`tir_contact.segment.estimate_contrast`).
+    min_area_px : int
+        Smaller contact regions are dropped (noise, dust).
+    min_block_fraction : float
+        A dark region of the percentile reference larger than this fraction of the image
+        means the block never left the view: the background is then estimated per frame.
+    closing_size_px : int
+        Structuring element of the per-frame background estimate (odd), larger than the
+        widest contact strip.
+    overlay_frames : int
+        Overlay images written (first, middle and last frames with the block, the frame of
+        largest contact, ...).
+    overlay_video : bool
+        Write ``overlay.avi`` (every k-th frame, at most ``overlay_video_max_frames``).
+    overlay_video_max_frames : int
+        Frame budget of the overlay video.
+    regions : {"auto", "always", "never"}
+        Write ``regions.csv`` (every contact region: area, centroid, bounding box).
+        ``"auto"``: only when no block geometry is known (then it is the main result).
+    plots : bool
+        Write the PNG plots.
+    parquet : bool
+        Also write Parquet copies of the tables when pyarrow is installed.
+    """
+
+    reference: str | None = None
+    reference_frames: int = 32
+    percentile: float = 90.0
+    contrast: float | None = None
+    min_darkness: float = 0.25
+    min_area_px: int = 4
+    min_block_fraction: float = 0.02
+    closing_size_px: int = 101
+    overlay_frames: int = 4
+    overlay_video: bool = True
+    overlay_video_max_frames: int = 400
+    regions: str = "auto"
+    plots: bool = True
+    parquet: bool = True
+
+    def __post_init__(self) -> None:
+        if self.reference_frames < 1:
+            raise ValueError(f"reference_frames must be >= 1, got {self.reference_frames!r}")
+        if self.contrast is not None and not 0.0 < self.contrast <= 2.0:
+            raise ValueError(f"contrast must lie in (0, 2], got {self.contrast!r}")
+        if self.min_area_px < 1:
+            raise ValueError(f"min_area_px must be >= 1, got {self.min_area_px!r}")
+        if self.regions not in ("auto", "always", "never"):
+            raise ValueError(f"regions must be 'auto', 'always' or 'never', got {self.regions!r}")
+        if self.closing_size_px < 3 or self.closing_size_px % 2 == 0:
+            raise ValueError(
+                f"closing_size_px must be odd and >= 3, got {self.closing_size_px!r}"
+            )
+
+
+@dataclass
+class VideoAnalysis:
+    """Result of :func:`analyze_video`.
+
+    Attributes
+    ----------
+    frames : pandas.DataFrame
+        One row per analysed frame (:data:`FRAME_COLUMNS`).
+    elements : pandas.DataFrame
+        One row per frame and element in contact or in view (:data:`ELEMENT_COLUMNS`).
+    regions : pandas.DataFrame or None
+        One row per frame and contact region (TIR view; :data:`REGION_COLUMNS`); None when
+        not computed (see :attr:`AnalysisOptions.regions`).
+    summary : dict
+        What ``summary.json`` holds: steady values, reference, skipped frames, settings.
+    out_dir : Path or None
+        Where the results were written.
+    """
+
+    frames: pd.DataFrame
+    elements: pd.DataFrame
+    regions: pd.DataFrame | None
+    summary: dict[str, Any]
+    out_dir: Path | None = None
+    skipped: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        """True when every frame was analysed."""
+        return not self.skipped
+
+
+def output_name(path: str | os.PathLike[str]) -> str:
+    """Name of a video's result folder: the folder name or the file name without suffix.
+
+    Examples
+    --------
+    >>> output_name("runs/G3_1mps/footage.avi"), output_name("runs/G3_1mps/frames")
+    ('footage', 'frames')
+    """
+    p = Path(path)
+    return p.name if p.is_dir() or not p.suffix else p.stem
+
+
+def _images_in(folder: Path) -> int:
+    try:
+        return sum(1 for q in folder.iterdir()
+                   if q.is_file() and not q.name.startswith(".")
+                   and q.suffix.lower() in IMAGE_SUFFIXES)
+    except OSError:
+        return 0
+
+
+def _from_clip_meta(folder: Path) -> Path | None:
+    """The footage a ``meta.json`` names (``frame_pattern`` folder or ``video_file``)."""
+    meta = folder / META_FILENAME
+    if not meta.is_file():
+        return None
+    try:
+        data = json.loads(meta.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict):
+        return None
+    if isinstance(data.get("video_file"), str):
+        return folder / data["video_file"]
+    pattern = data.get("frame_pattern")
+    if isinstance(pattern, str) and len(Path(pattern).parts) > 1:
+        return folder / Path(pattern).parts[0]
+    return None
+
+
+def resolve_footage(path: str | os.PathLike[str]) -> tuple[Path, str]:
+    """The footage a path means, and its result name.
+
+    A synthetic clip folder (``meta.json`` naming ``frames/...`` or a video file, no frames
+    of its own) means its frames folder or video, named after the clip folder.
+
+    Returns
+    -------
+    (Path, str)
+        What the reader opens, and the result folder name.
+    """
+    p = Path(path)
+    if p.is_dir() and _images_in(p) == 0:
+        inner = _from_clip_meta(p)
+        if inner is not None:
+            return inner, p.name
+    return p, output_name(p)
+
+
+def footage_fingerprint(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """Sizes and modification times of the footage and its metadata (for ``--resume``)."""
+    from tir_contact.meta import find_meta
+
+    p = Path(path)
+    files = sorted(q for q in p.iterdir() if q.is_file()) if p.is_dir() else [p]
+    meta = find_meta(p)
+    if meta is not None and meta not in files:
+        files.append(meta)
+    return {
+        "files": len(files),
+        "bytes": int(sum(q.stat().st_size for q in files)),
+        "mtime_ns": int(max((q.stat().st_mtime_ns for q in files), default=0)),
+    }
+
+
+# --------------------------------------------------------------------------------------------
+# reference and normalisation
+
+
+def _read_reference_file(path: str, shape: tuple[int, int], min_relative: float = 0.2) -> Reference:
+    import cv2
+
+    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if image is None:
+        raise FootageError(f"{path}: cannot read the reference image", path)
+    if image.ndim == 3:
+        image = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    if image.shape != shape:
+        raise FootageError(
+            f"{path}: reference size {image.shape[1]}x{image.shape[0]} differs from the "
+            f"footage's {shape[1]}x{shape[0]}",
+            path,
+        )
+    image = image.astype(float)
+    valid = image > min_relative * float(np.median(image))
+    return Reference(image, valid, "file", 1)
+
+
+def _reference_holds_block(reference: Reference, contact_is: str, options: AnalysisOptions) -> bool:
+    """True when the percentile reference still shows a block-sized dark region."""
+    import cv2
+
+    own = reference_from_frame(reference.image, contact_is=contact_is,
+                               size_px=options.closing_size_px)
+    ratio = reference.image / np.maximum(own.image, 1e-6)
+    d = 1.0 - ratio if contact_is == "dark" else ratio - 1.0
+    dark = (d > options.min_darkness) & reference.valid
+    if not dark.any():
+        return False
+    _, _, stats, _ = cv2.connectedComponentsWithStats(dark.astype(np.uint8), connectivity=8)
+    largest = int(stats[1:, cv2.CC_STAT_AREA].max()) if len(stats) > 1 else 0
+    return largest > options.min_block_fraction * dark.size
+
+
+class _Normaliser:
+    """Darkness of a frame against a fixed reference, with invalid pixels at 0."""
+
+    def __init__(self, reference: Reference, contact_is: str) -> None:
+        self.reference = reference
+        self.valid = reference.valid
+        inv = np.where(reference.valid, 1.0 / np.maximum(reference.image, 1e-6), 0.0)
+        self._sign = -1.0 if contact_is == "dark" else 1.0
+        self._scale = (self._sign * inv).astype(np.float32)
+        self._offset = (-self._sign * reference.valid).astype(np.float32)
+
+    def __call__(self, frame: np.ndarray) -> np.ndarray:
+        d = frame.astype(np.float32)
+        d *= self._scale
+        d += self._offset
+        return d
+
+
+# --------------------------------------------------------------------------------------------
+# the per-video pass
+
+
+@dataclass
+class _Setup:
+    meta: dict[str, Any]
+    view: str
+    contact_is: str
+    fps: float
+    mm_per_px: float
+    layout: Any
+    reference: Reference | None
+    reference_method: str
+    contrast: float | None
+    n_frames: int
+    shape: tuple[int, int]
+    max_dn: float
+    skipped: list[dict[str, Any]]
+
+
+def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]]) -> list[np.ndarray]:
+    n = len(reader)
+    idx = np.unique(np.linspace(0, n - 1, min(n, n_sample)).round().astype(int))
+    frames = []
+    for i in idx:
+        try:
+            frames.append(reader.get_frame(int(i)))
+        except FootageError as exc:
+            skipped.append({"frame": int(i), "reason": str(exc)})
+    return frames
+
+
+def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
+             options: AnalysisOptions) -> _Setup:
+    from tir_contact.features import BlockLayout
+    from tir_contact.meta import load_meta
+
+    meta = load_meta(path, overrides, frame_rate=reader.frame_rate)
+    n = len(reader)
+    if n == 0:
+        raise FootageError(f"{path}: the footage has no frames", path)
+    view, contact_is = meta["view"], meta["contact_is"]
+    skipped: list[dict[str, Any]] = []
+    samples = _sample_frames(reader, options.reference_frames, skipped)
+    if not samples:
+        raise FootageError(f"{path}: none of the sampled frames could be read "
+                           f"(first reason: {skipped[0]['reason']})", path)
+    shape = samples[0].shape
+    max_dn = float(meta.get("max_dn") or (2 ** reader.bit_depth - 1))
+    reference: Reference | None
+    if options.reference is not None:
+        reference = _read_reference_file(options.reference, shape)
+        method = "file"
+    elif len(samples) >= 5:
+        reference = reference_from_frames(samples, contact_is=contact_is,
+                                          percentile=options.percentile)
+        method = "percentile"
+        if view == "tir" and _reference_holds_block(reference, contact_is, options):
+            reference, method = None, "per-frame closing (the block never leaves the view)"
+    else:
+        reference, method = None, f"per-frame closing ({len(samples)} frame(s) only)"
+    contrast = options.contrast
+    if contrast is None and view == "tir":
+        values = []
+        shared = _Normaliser(reference, contact_is) if reference is not None else None
+        for frame in samples:
+            norm = shared or _Normaliser(
+                reference_from_frame(frame, contact_is=contact_is,
+                                     size_px=options.closing_size_px), contact_is)
+            values.append(estimate_contrast(norm(frame), min_darkness=options.min_darkness))
+        finite = [v for v in values if np.isfinite(v)]
+        contrast = float(np.median(finite)) if finite else None
+    layout = BlockLayout.from_meta(meta)
+    return _Setup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
+                  reference, method, contrast, n, shape, max_dn, skipped)
+
+
+def _fully_in_view(front_mm: float, setup: _Setup, margin_mm: float = 0.5) -> bool:
+    lengths = setup.layout.element_lengths_mm
+    if lengths is None or not np.isfinite(front_mm):
+        return bool(np.isfinite(front_mm))
+    total = float(np.sum(lengths) + setup.layout.sipe_width_mm * (len(lengths) - 1))
+    width_mm = setup.shape[1] * setup.mm_per_px
+    back = front_mm + total if setup.layout.sliding_direction == "left" else front_mm - total
+    lo, hi = min(front_mm, back), max(front_mm, back)
+    return lo >= margin_mm and hi <= width_mm - margin_mm
+
+
+class _FrameAnalyser:
+    """Analyses single frames of one video with fixed settings."""
+
+    def __init__(self, setup: _Setup, options: AnalysisOptions) -> None:
+        self.setup = setup
+        self.options = options
+        self.normalise = (
+            _Normaliser(setup.reference, setup.contact_is) if setup.reference else None
+        )
+        self.want_regions = options.regions == "always" or (
+            options.regions == "auto" and setup.layout.element_lengths_mm is None
+        )
+
+    def darkness(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if self.normalise is not None:
+            return self.normalise(frame), self.normalise.valid
+        ref = reference_from_frame(frame, contact_is=self.setup.contact_is,
+                                   size_px=self.options.closing_size_px)
+        return _Normaliser(ref, self.setup.contact_is)(frame), ref.valid
+
+    def tir(self, k: int, frame: np.ndarray) -> tuple[dict, np.ndarray, dict | None, Any]:
+        from tir_contact.features import tir_frame_records
+
+        s = self.setup
+        t = k / s.fps
+        d, valid = self.darkness(frame)
+        contact = segment_frame(d, contrast=s.contrast, min_darkness=self.options.min_darkness,
+                                min_area_px=self.options.min_area_px)
+        row, rec = tir_frame_records(d, contact, s.layout, valid=valid, time_s=t)
+        row = {"frame": k, "time_s": t, **row, "n_regions": contact.n_regions}
+        row["block_fully_in_view"] = bool(row.get("block_in_view")) and _fully_in_view(
+            row.get("block_front_x_mm", np.nan), s)
+        regions = None
+        if self.want_regions:
+            regions = region_arrays(contact.labels, contact.n_regions, d)
+            regions["frame"] = np.full(contact.n_regions, k)
+        return row, rec, regions, contact
+
+    def side(self, k: int, frame: np.ndarray) -> tuple[dict, pd.DataFrame, Any]:
+        from tir_contact.side import side_darkness, side_frame_features
+
+        s = self.setup
+        t = k / s.fps
+        d = side_darkness(frame, contact_is=s.contact_is, reference=s.reference)
+        valid = s.reference.valid if s.reference is not None else None
+        feats = side_frame_features(d, s.layout, valid=valid)
+        row = {"frame": k, "time_s": t, **feats.frame}
+        row["block_fully_in_view"] = bool(row.get("block_in_view")) and _fully_in_view(
+            row.get("block_front_x_mm", np.nan), s)
+        el = feats.elements.copy()
+        el.insert(0, "time_s", t)
+        el.insert(0, "frame", k)
+        return row, el, feats
+
+
+def _tidy(rows: list[dict], columns: list[str]) -> pd.DataFrame:
+    df = pd.DataFrame(rows)
+    for c in columns:
+        if c not in df.columns:
+            df[c] = np.nan
+    extra = [c for c in df.columns if c not in columns]
+    return df[columns + extra]
+
+
+def _concat(parts: list[pd.DataFrame], columns: list[str]) -> pd.DataFrame:
+    parts = [p for p in parts if len(p)]
+    df = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
+    return _tidy(df.to_dict("records"), columns) if not parts else _reorder(df, columns)
+
+
+def _reorder(df: pd.DataFrame, columns: list[str]) -> pd.DataFrame:
+    for c in columns:
+        if c not in df.columns:
+            df[c] = np.nan
+    return df[columns + [c for c in df.columns if c not in columns]]
+
+
+def _element_frame(el: Any, k: int, fps: float) -> pd.DataFrame:
+    """A frame's element rows as a DataFrame (records of the fast path, or a table)."""
+    if isinstance(el, pd.DataFrame):
+        return el
+    df = pd.DataFrame({name: el[name] for name in el.dtype.names})
+    df.insert(0, "time_s", k / fps)
+    df.insert(0, "frame", k)
+    return df
+
+
+def _records_table(records: list[np.ndarray], frames: list[np.ndarray],
+                   fps: float) -> pd.DataFrame:
+    """The elements table from the per-frame record arrays, built once."""
+    if not records:
+        return pd.DataFrame(columns=ELEMENT_COLUMNS)
+    rec = np.concatenate(records)
+    frame = np.concatenate(frames)
+    data = {"frame": frame, "time_s": frame / fps}
+    data.update({name: rec[name] for name in rec.dtype.names})
+    return _reorder(pd.DataFrame(data), ELEMENT_COLUMNS)
+
+
+def _regions_table(regions: list[dict], setup: _Setup) -> pd.DataFrame:
+    """``regions.csv`` in mm from the per-frame region arrays."""
+    if not regions:
+        return pd.DataFrame(columns=REGION_COLUMNS)
+    cat = {key: np.concatenate([r[key] for r in regions]) for key in regions[0]}
+    mm, mm2 = setup.mm_per_px, setup.mm_per_px ** 2
+    return pd.DataFrame({
+        "frame": cat["frame"], "time_s": cat["frame"] / setup.fps, "region": cat["label"],
+        "area_mm2": cat["area_px"] * mm2,
+        "centroid_x_mm": (cat["centroid_x_px"] + 0.5) * mm,
+        "centroid_y_mm": (cat["centroid_y_px"] + 0.5) * mm,
+        "bbox_x0_mm": cat["bbox_x0_px"] * mm, "bbox_y0_mm": cat["bbox_y0_px"] * mm,
+        "bbox_width_mm": cat["bbox_width_px"] * mm, "bbox_height_mm": cat["bbox_height_px"] * mm,
+        "mean_darkness": cat["mean_darkness"],
+    }, columns=REGION_COLUMNS)
+
+
+def _steady(frames: pd.DataFrame, elements: pd.DataFrame) -> dict[str, Any]:
+    """Means and standard deviations over the frames with the whole block in view."""
+    full = frames[frames["block_fully_in_view"].astype(bool)]
+    out: dict[str, Any] = {"n_frames": len(full)}
+    for col in ("contact_area_mm2", "contact_ratio", "front_peak_contrast",
+                "deflection_angle_deg", "tip_deflection_mm"):
+        if col in full and full[col].notna().any():
+            out[col] = {"mean": float(full[col].mean()), "std": float(full[col].std(ddof=1))
+                        if full[col].notna().sum() > 1 else 0.0}
+    if len(full) and len(elements):
+        sel = elements[elements["frame"].isin(full["frame"])]
+        per = {}
+        for element, grp in sel.groupby("element"):
+            per[str(int(element))] = {
+                col: float(grp[col].mean())
+                for col in ("contact_area_mm2", "contact_length_mm", "front_peak_contrast",
+                            "liftoff_mm", "deflection_angle_deg", "tip_deflection_mm",
+                            "front_peak_width_mm")
+                if col in grp and grp[col].notna().any()
+            }
+        out["elements"] = per
+    return out
+
+
+def _overlay_choice(frames: pd.DataFrame, n: int) -> list[int]:
+    inview = frames[frames["block_in_view"].astype(bool)]
+    if inview.empty or n <= 0:
+        return [int(frames["frame"].iloc[len(frames) // 2])] if n > 0 and len(frames) else []
+    picks = [int(inview["frame"].iloc[0]), int(inview["frame"].iloc[len(inview) // 2]),
+             int(inview["frame"].iloc[-1])]
+    if inview["contact_area_mm2"].notna().any():
+        picks.append(int(inview.loc[inview["contact_area_mm2"].idxmax(), "frame"]))
+    extra = np.linspace(0, len(inview) - 1, n + 2).round().astype(int)[1:-1]
+    picks += [int(inview["frame"].iloc[i]) for i in extra]
+    seen: list[int] = []
+    for p in picks:
+        if p not in seen:
+            seen.append(p)
+    return sorted(seen[:n])
+
+
+def analyze_video(
+    path: str | os.PathLike[str],
+    out: str | os.PathLike[str] | None = None,
+    *,
+    overrides: Mapping[str, Any] | None = None,
+    options: AnalysisOptions | None = None,
+    name: str | None = None,
+    progress: bool | None = False,
+    progress_position: int = 0,
+) -> VideoAnalysis:
+    """Analyse one video (TIR or side view, as ``meta.json`` says).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Footage: a frame folder or a video/stack/camera file (see
+        :func:`tir_contact.io.open_footage`), with its ``meta.json``.
+    out : str or os.PathLike, optional
+        Output root; results go to ``out/<name>/`` (written to a staging folder and moved
+        into place when complete). Nothing is written when omitted.
+    overrides : mapping, optional
+        Metadata by dotted key, winning over ``meta.json`` (see
+        :func:`tir_contact.meta.load_meta`).
+    options : AnalysisOptions, optional
+        Analysis settings.
+    name : str, optional
+        Result folder name; :func:`output_name` of `path` by default.
+    progress : bool or None
+        Show a progress bar (None: only on a terminal).
+    progress_position : int
+        Line of the progress bar (for parallel batches).
+
+    Returns
+    -------
+    VideoAnalysis
+
+    Raises
+    ------
+    FootageError
+        The footage cannot be opened, has no frames, or its metadata is missing or wrong.
+        Single unreadable frames do not raise: they are skipped and listed in
+        ``summary["skipped_frames"]``.
+
+    Examples
+    --------
+    >>> from tir_contact.io import ArrayReader
+    >>> import tempfile, json, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> frames = np.full((8, 16, 24), 200, np.uint8); frames[4, 5:10, 10:20] = 40
+    >>> import tifffile; tifffile.imwrite(folder / "clip.tif", frames)
+    >>> meta = {"fps": 1000, "mm_per_px": 0.1, "sliding_direction": "left"}
+    >>> _ = (folder / "meta.json").write_text(json.dumps(meta))
+    >>> result = analyze_video(folder / "clip.tif")
+    >>> result.frames.loc[4, "contact_area_mm2"].round(6)
+    0.5
+    """
+    from tqdm.auto import tqdm
+
+    from tir_contact.io import open_footage
+
+    options = options or AnalysisOptions()
+    path, default_name = resolve_footage(path)
+    name = name or default_name
+    t0 = time.perf_counter()
+    with open_footage(path) as reader:
+        setup = _prepare(reader, path, overrides, options)
+        analyser = _FrameAnalyser(setup, options)
+        rows: list[dict] = []
+        elements: list[pd.DataFrame] = []
+        records: list[np.ndarray] = []
+        record_frames: list[np.ndarray] = []
+        regions: list[dict] = []
+        skipped = list(setup.skipped)
+        bad = {s["frame"] for s in skipped}
+        video = (
+            _OverlayVideo(setup, options, Path(out))
+            if out is not None and options.overlay_video
+            else None
+        )
+        bar = tqdm(total=setup.n_frames, desc=name, unit="frame", leave=False,
+                   disable=progress is False, position=progress_position, dynamic_ncols=True)
+        try:
+            for k in range(setup.n_frames):
+                bar.update(1)
+                if k in bad:
+                    continue
+                try:
+                    frame = reader.get_frame(k)
+                except FootageError as exc:
+                    skipped.append({"frame": k, "reason": str(exc)})
+                    logger.warning("%s", exc)
+                    continue
+                if setup.view == "tir":
+                    row, el, reg, contact = analyser.tir(k, frame)
+                    if reg is not None:
+                        regions.append(reg)
+                    extra = contact.mask
+                    if len(el):
+                        records.append(el)
+                        record_frames.append(np.full(len(el), k))
+                else:
+                    row, el, extra = analyser.side(k, frame)
+                    elements.append(el)
+                rows.append(row)
+                if video is not None:
+                    video.add(k, frame, row, el, extra)
+        finally:
+            bar.close()
+            if video is not None:
+                video.close()
+        elapsed = time.perf_counter() - t0
+        frames_df = _tidy(rows, FRAME_COLUMNS) if rows else pd.DataFrame(columns=FRAME_COLUMNS)
+        if setup.view == "tir":
+            elements_df = _records_table(records, record_frames, setup.fps)
+        else:
+            elements_df = _concat(elements, ELEMENT_COLUMNS)
+        regions_df = _regions_table(regions, setup) if analyser.want_regions else None
+        if not len(frames_df):
+            raise FootageError(
+                f"{path}: no frame could be read (first reason: {skipped[0]['reason']})", path
+            )
+        skipped.sort(key=lambda s: s["frame"])
+        summary = _summary(path, name, setup, options, frames_df, elements_df, skipped, elapsed)
+        result = VideoAnalysis(frames_df, elements_df, regions_df, summary, None, skipped)
+        if out is not None:
+            result.out_dir = _write(result, Path(out) / name, reader, analyser, video)
+    return result
+
+
+def _summary(path: Path, name: str, setup: _Setup, options: AnalysisOptions,
+             frames: pd.DataFrame, elements: pd.DataFrame, skipped: list[dict[str, Any]],
+             elapsed: float) -> dict[str, Any]:
+    from tir_contact import __version__
+
+    ref = setup.reference
+    in_view = frames["block_in_view"].astype(bool)
+    return {
+        "result_version": _RESULT_VERSION,
+        "complete": True,
+        "video": str(path),
+        "name": name,
+        "view": setup.view,
+        "n_frames": setup.n_frames,
+        "n_frames_analysed": len(frames),
+        "frames_without_block": int((~in_view).sum()),
+        "frames_with_whole_block": int(frames["block_fully_in_view"].astype(bool).sum()),
+        "skipped_frames": skipped,
+        "steady": _steady(frames, elements),
+        "reference": {
+            "method": setup.reference_method,
+            "n_frames": ref.n_frames if ref is not None else 1,
+            "excluded_fraction": ref.excluded_fraction if ref is not None else None,
+        },
+        "contrast": setup.contrast,
+        "threshold": None if setup.contrast is None else 0.5 * setup.contrast,
+        "meta": setup.meta,
+        "options": asdict(options),
+        "fingerprint": footage_fingerprint(path),
+        "frames_per_s": len(frames) / elapsed if elapsed > 0 else None,
+        "package_version": __version__,
+    }
+
+
+class _OverlayVideo:
+    """Streams every k-th overlay frame into ``overlay.avi`` in a staging file."""
+
+    def __init__(self, setup: _Setup, options: AnalysisOptions, folder: Path) -> None:
+        import tempfile
+
+        self.setup = setup
+        self.step = max(1, math.ceil(setup.n_frames / options.overlay_video_max_frames))
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(dir=folder, prefix=".overlay-", suffix=".avi")
+        os.close(fd)
+        self.path = Path(name)
+        self.writer = None
+
+    def add(self, k: int, frame: np.ndarray, row: dict, el: Any, extra: Any) -> None:
+        import cv2
+
+        if k % self.step:
+            return
+        el = _element_frame(el, k, self.setup.fps)
+        img = _draw(self.setup, k, frame, row, el, extra)
+        if self.writer is None:
+            fourcc = cv2.VideoWriter_fourcc(*"MJPG")
+            fps = min(25.0, self.setup.fps)
+            self.writer = cv2.VideoWriter(str(self.path), fourcc, fps,
+                                          (img.shape[1], img.shape[0]))
+        self.writer.write(img)
+
+    def close(self) -> None:
+        if self.writer is not None:
+            self.writer.release()
+            self.writer = None
+
+
+def _draw(setup: _Setup, k: int, frame: np.ndarray, row: dict, el: pd.DataFrame,
+          extra: Any) -> np.ndarray:
+    from tir_contact.overlay import draw_side_overlay, draw_tir_overlay
+
+    label = f"frame {k}  t = {k / setup.fps * 1e3:.2f} ms"
+    if setup.view == "tir":
+        return draw_tir_overlay(frame, extra, el, row, mm_per_px=setup.mm_per_px,
+                                max_dn=setup.max_dn, label=label)
+    lines = getattr(extra, "lines", {}) or {}
+    return draw_side_overlay(frame, el, lines, ice_y_px=getattr(extra, "ice_y_px", None),
+                             max_dn=setup.max_dn, label=label)
+
+
+def _write(result: VideoAnalysis, final: Path, reader: Any, analyser: _FrameAnalyser,
+           video: _OverlayVideo | None) -> Path:
+    import cv2
+
+    from tir_contact._outdir import replace_folder, staging_folder, write_json
+    from tir_contact.plots import plot_video_results
+
+    options, setup = analyser.options, analyser.setup
+    stage = staging_folder(final)
+    try:
+        tables = {"frames": result.frames, "elements": result.elements}
+        if result.regions is not None:
+            tables["regions"] = result.regions
+        for stem, df in tables.items():
+            df.to_csv(stage / f"{stem}.csv", index=False, lineterminator="\n",
+                      float_format="%.6g")
+        if options.parquet and _has_pyarrow():
+            for stem, df in tables.items():
+                df.to_parquet(stage / f"{stem}.parquet", index=False)
+        if options.plots:
+            plot_video_results(result.frames, result.elements, stage, view=setup.view,
+                               title=result.summary["name"])
+        if options.overlay_frames > 0:
+            (stage / "overlays").mkdir()
+            for k in _overlay_choice(result.frames, options.overlay_frames):
+                try:
+                    frame = reader.get_frame(k)
+                except FootageError:
+                    continue
+                if setup.view == "tir":
+                    row, el, _, contact = analyser.tir(k, frame)
+                    extra = contact.mask
+                else:
+                    row, el, extra = analyser.side(k, frame)
+                cv2.imwrite(str(stage / "overlays" / f"frame_{k:06d}.png"),
+                            _draw(setup, k, frame, row, _element_frame(el, k, setup.fps),
+                                  extra))
+        if video is not None and video.path.exists() and video.path.stat().st_size > 0:
+            os.replace(video.path, stage / "overlay.avi")
+        write_json(stage / "summary.json", result.summary)
+        return replace_folder(stage, final)
+    except BaseException:
+        import shutil
+
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    finally:
+        if video is not None:
+            video.path.unlink(missing_ok=True)
+
+
+def _has_pyarrow() -> bool:
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        return False
+    return True

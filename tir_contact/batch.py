@@ -1,0 +1,379 @@
+"""Analyse many videos: find them, run them in parallel, resume, never lose finished results.
+
+Each video's results are written to ``OUT/<name>/`` by :func:`tir_contact.analyze.analyze_video`
+(built in a staging folder and moved into place when complete). A broken video (unreadable
+file, corrupt frame, missing metadata) is reported and the others go on; the batch's report
+``OUT/batch_report.json`` (and ``.csv``) lists every video with its status, and the batch
+fails (non-zero exit of ``tir-contact analyze``) when anything failed.
+
+Parallel work: local processes (``workers``, default all cores) or an existing
+``dask.distributed`` cluster (``scheduler`` address).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import traceback
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from tir_contact._readers import FootageError
+from tir_contact.analyze import (
+    _RESULT_VERSION,
+    RESULT_FILES,
+    AnalysisOptions,
+    _from_clip_meta,
+    _images_in,
+    analyze_video,
+    footage_fingerprint,
+    resolve_footage,
+)
+from tir_contact.meta import META_FILENAME
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "FOOTAGE_FILE_SUFFIXES",
+    "BatchReport",
+    "Footage",
+    "VideoStatus",
+    "analyze_batch",
+    "find_footage",
+    "is_current",
+]
+
+#: File types that hold a whole video (frame folders are recognised by their images).
+FOOTAGE_FILE_SUFFIXES = (".avi", ".mp4", ".mov", ".mkv", ".tif", ".tiff", ".mraw", ".cihx",
+                         ".cih", ".cine")
+
+
+@dataclass(frozen=True)
+class Footage:
+    """One video to analyse.
+
+    Attributes
+    ----------
+    path : Path
+        What the reader opens (frame folder or file).
+    name : str
+        Result folder name under the output root.
+    """
+
+    path: Path
+    name: str
+
+
+@dataclass
+class VideoStatus:
+    """Outcome of one video in a batch."""
+
+    name: str
+    path: str
+    status: str  # "done", "resumed" (complete and current, skipped), "partial", "failed"
+    message: str = ""
+    n_frames: int = 0
+    skipped_frames: int = 0
+    seconds: float = 0.0
+
+
+@dataclass
+class BatchReport:
+    """Outcome of a batch; ``ok`` is False when any video failed or lost frames."""
+
+    videos: list[VideoStatus] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return all(v.status in ("done", "resumed") for v in self.videos)
+
+    @property
+    def failed(self) -> list[VideoStatus]:
+        return [v for v in self.videos if v.status not in ("done", "resumed")]
+
+    def table(self) -> pd.DataFrame:
+        return pd.DataFrame([asdict(v) for v in self.videos],
+                            columns=list(VideoStatus.__dataclass_fields__))
+
+
+# --------------------------------------------------------------------------------------------
+# finding footage
+
+
+def _resolve(path: Path) -> Footage:
+    """A user-given path to the footage it means (a clip folder to its frames or video)."""
+    inner, name = resolve_footage(path)
+    return Footage(inner, name)
+
+
+def _walk(root: Path) -> list[Footage]:
+    found: list[Footage] = []
+    for folder, subdirs, files in os.walk(root):
+        here = Path(folder)
+        subdirs[:] = sorted(d for d in subdirs if not d.startswith("."))
+        inner = _from_clip_meta(here)
+        if inner is not None and _images_in(here) == 0:
+            found.append(Footage(inner, here.name))
+            subdirs[:] = [d for d in subdirs if here / d != inner]
+            files = [f for f in files if here / f != inner]
+        elif _images_in(here) > 0:
+            found.append(Footage(here, here.name))
+            continue
+        elif (here / META_FILENAME).is_file() and not any(
+            Path(f).suffix.lower() in FOOTAGE_FILE_SUFFIXES for f in files
+        ):
+            found.append(Footage(here, here.name))  # metadata without footage: reported
+        for f in sorted(files):
+            p = here / f
+            if f.startswith(".") or p.suffix.lower() not in FOOTAGE_FILE_SUFFIXES:
+                continue
+            if p.suffix.lower() in (".cih", ".cihx"):
+                continue  # the .mraw beside it is the footage
+            found.append(Footage(p, p.stem))
+    return found
+
+
+def _unique_names(items: list[Footage]) -> list[Footage]:
+    """Make result names unique by prefixing parent folder names where they collide."""
+    counts: dict[str, int] = {}
+    for it in items:
+        counts[it.name] = counts.get(it.name, 0) + 1
+    out = []
+    for it in items:
+        if counts[it.name] == 1:
+            out.append(it)
+            continue
+        parents = [p.name for p in it.path.parents][:3]
+        name = "__".join(reversed([it.name, *[p for p in parents if p]][:3]))
+        out.append(Footage(it.path, name))
+    names = [o.name for o in out]
+    return [Footage(o.path, o.name if names.count(o.name) == 1 else f"{o.name}__{i}")
+            for i, o in enumerate(out)]
+
+
+def find_footage(
+    paths: Sequence[str | os.PathLike[str]], *, recursive: bool = False
+) -> list[Footage]:
+    """The videos named by `paths`.
+
+    Parameters
+    ----------
+    paths : sequence of path
+        Footage folders or files; with `recursive`, trees searched for them (frame
+        folders, video/stack/camera files, synthetic clip folders with a ``meta.json``).
+    recursive : bool
+        Search folders that are not footage themselves.
+
+    Returns
+    -------
+    list of Footage
+        In the given order, with unique result names.
+
+    Raises
+    ------
+    FootageError
+        A path does not exist, or (without `recursive`) a folder holds no footage.
+    """
+    items: list[Footage] = []
+    for raw in paths:
+        p = Path(raw)
+        if not p.exists():
+            raise FootageError(f"{p}: does not exist", p)
+        if p.is_dir() and recursive and _images_in(p) == 0 and _from_clip_meta(p) is None:
+            found = _walk(p)
+            if not found:
+                raise FootageError(f"{p}: no footage found in the tree", p)
+            items.extend(found)
+        else:
+            items.append(_resolve(p))
+    return _unique_names(items)
+
+
+# --------------------------------------------------------------------------------------------
+# running
+
+
+def is_current(footage: Footage, out: Path) -> bool:
+    """True when ``out/<name>`` holds complete results of this footage as it is now."""
+    folder = out / footage.name
+    if not all((folder / f).is_file() for f in RESULT_FILES):
+        return False
+    try:
+        summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+        fingerprint = footage_fingerprint(footage.path)
+    except (OSError, ValueError):
+        return False
+    return (summary.get("complete") is True
+            and summary.get("result_version") == _RESULT_VERSION
+            and summary.get("fingerprint") == fingerprint
+            and not summary.get("skipped_frames"))
+
+
+def _run_one(footage: Footage, out: str, overrides: Mapping[str, Any] | None,
+             options: AnalysisOptions, progress: bool | None, position: int) -> VideoStatus:
+    """Analyse one video, turning any failure into a status (runs in a worker)."""
+    import time
+
+    t0 = time.perf_counter()
+    try:
+        result = analyze_video(footage.path, out, overrides=overrides, options=options,
+                               name=footage.name, progress=progress,
+                               progress_position=position)
+    except (FootageError, ValueError, OSError) as exc:
+        return VideoStatus(footage.name, str(footage.path), "failed", _one_line(exc),
+                           seconds=time.perf_counter() - t0)
+    except Exception as exc:  # a bug must not lose the other videos' results
+        logger.debug("%s", traceback.format_exc())
+        return VideoStatus(footage.name, str(footage.path), "failed",
+                           f"{type(exc).__name__}: {_one_line(exc)}",
+                           seconds=time.perf_counter() - t0)
+    skipped = result.skipped
+    status = "partial" if skipped else "done"
+    message = (f"{len(skipped)} frame(s) skipped, first: {skipped[0]['reason']}"
+               if skipped else "")
+    return VideoStatus(footage.name, str(footage.path), status, message,
+                       n_frames=len(result.frames), skipped_frames=len(skipped),
+                       seconds=time.perf_counter() - t0)
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())
+
+
+def analyze_batch(
+    footage: Iterable[Footage],
+    out: str | os.PathLike[str],
+    *,
+    overrides: Mapping[str, Any] | None = None,
+    options: AnalysisOptions | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    resume: bool = False,
+    progress: bool | None = None,
+    on_done: Callable[[VideoStatus], None] | None = None,
+) -> BatchReport:
+    """Analyse several videos; each result lands in ``out/<name>/`` as soon as it is done.
+
+    Parameters
+    ----------
+    footage : iterable of Footage
+        From :func:`find_footage`.
+    out : path
+        Output root.
+    overrides : mapping, optional
+        Metadata given on the command line, for every video.
+    options : AnalysisOptions, optional
+        Analysis settings.
+    workers : int, optional
+        Local worker processes (default: all cores; 1 runs in this process).
+    scheduler : str, optional
+        Address of a running ``dask.distributed`` scheduler (``tcp://host:8786``); the
+        videos are then analysed on that cluster. Needs the ``dask`` extra.
+    resume : bool
+        Skip videos whose results are complete and current (:func:`is_current`).
+    progress : bool or None
+        Progress bars (batch and per video); None: only on a terminal.
+    on_done : callable, optional
+        Called with each video's status as it finishes.
+
+    Returns
+    -------
+    BatchReport
+        Also written to ``out/batch_report.json`` and ``out/batch_report.csv``.
+    """
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    from tqdm.auto import tqdm
+
+    options = options or AnalysisOptions()
+    out_path = Path(out)
+    out_path.mkdir(parents=True, exist_ok=True)
+    items = list(footage)
+    report = BatchReport()
+    todo: list[Footage] = []
+    for it in items:
+        if resume and is_current(it, out_path):
+            report.videos.append(VideoStatus(it.name, str(it.path), "resumed",
+                                             "results complete and current"))
+        else:
+            todo.append(it)
+    n_workers = max(1, workers if workers is not None else (os.cpu_count() or 1))
+    n_workers = min(n_workers, max(1, len(todo)))
+    bar = tqdm(total=len(items), desc="videos", unit="video", disable=progress is False,
+               initial=len(items) - len(todo), position=0, dynamic_ncols=True)
+
+    def finish(status: VideoStatus) -> None:
+        report.videos.append(status)
+        bar.update(1)
+        if status.status == "failed":
+            logger.error("%s: %s", status.path, status.message)
+        if on_done is not None:
+            on_done(status)
+        _write_report(report, out_path, items)
+
+    try:
+        if scheduler is not None:
+            _run_dask(todo, out_path, overrides, options, scheduler, finish)
+        elif n_workers == 1:
+            for it in todo:
+                finish(_run_one(it, str(out_path), overrides, options, progress, 1))
+        else:
+            with ProcessPoolExecutor(max_workers=n_workers) as pool:
+                futures = {
+                    pool.submit(_run_one, it, str(out_path), overrides, options, progress,
+                                1 + i % n_workers): it
+                    for i, it in enumerate(todo)
+                }
+                for fut in as_completed(futures):
+                    it = futures[fut]
+                    try:
+                        status = fut.result()
+                    except Exception as exc:  # worker crashed (e.g. killed)
+                        status = VideoStatus(it.name, str(it.path), "failed",
+                                             f"worker failed: {_one_line(exc)}")
+                    finish(status)
+    finally:
+        bar.close()
+    _write_report(report, out_path, items)
+    return report
+
+
+def _run_dask(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | None,
+              options: AnalysisOptions, scheduler: str,
+              finish: Callable[[VideoStatus], None]) -> None:
+    try:
+        from dask.distributed import Client, as_completed
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError(
+            "--scheduler needs dask.distributed: pip install 'tir-contact[dask]'"
+        ) from exc
+    with Client(scheduler) as client:
+        futures = {
+            client.submit(_run_one, it, str(out), overrides, options, False, 0, pure=False): it
+            for it in todo
+        }
+        for fut in as_completed(list(futures)):
+            it = futures[fut]
+            try:
+                status = fut.result()
+            except Exception as exc:
+                status = VideoStatus(it.name, str(it.path), "failed",
+                                     f"worker failed: {_one_line(exc)}")
+            finish(status)
+
+
+def _write_report(report: BatchReport, out: Path, items: list[Footage]) -> None:
+    from tir_contact._outdir import atomic_write, write_json
+
+    order = {it.name: i for i, it in enumerate(items)}
+    report.videos.sort(key=lambda v: order.get(v.name, len(order)))
+    write_json(out / "batch_report.json",
+               {"ok": report.ok, "videos": [asdict(v) for v in report.videos]})
+    table = report.table()
+    atomic_write(out / "batch_report.csv",
+                 lambda tmp: table.to_csv(tmp, index=False, lineterminator="\n"))

@@ -1,0 +1,109 @@
+"""``tir-contact analyze``: contact analysis of TIR and side-view footage, one video or many.
+
+Each PATH is a footage folder or video file, or with ``--recursive`` a tree searched for
+them. Results go to ``OUT/<video name>/`` (``frames.csv``, ``elements.csv``, ``regions.csv``,
+Parquet copies, ``summary.json``, plots, overlay images and ``overlay.avi``), written
+atomically. A broken video is reported and skipped; the exit code is 1 when anything failed,
+2 for bad arguments.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from pathlib import Path
+
+from tir_contact.commands._types import positive_int, positive_number
+
+logger = logging.getLogger(__name__)
+
+
+def _meta_option_keys() -> list[str]:
+    from tir_contact.meta import META_FIELDS
+
+    return [k for k, f in META_FIELDS.items() if f.kind != "object"]
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """Register the ``analyze`` sub-command."""
+    from tir_contact.meta import META_FIELDS, option_flag
+
+    p = subparsers.add_parser(
+        "analyze",
+        help="analyse TIR / side-view footage: contact area, elements, peaks, deflection",
+        description=(
+            "Analyse footage (frame folders, TIFF stacks, videos, Photron MRAW, Phantom CINE) "
+            "with its meta.json. Writes OUT/<video>/frames.csv, elements.csv, regions.csv, "
+            "summary.json, plots and overlays. Exit code 1 when any video failed."
+        ),
+    )
+    p.add_argument("paths", nargs="+", metavar="PATH", type=Path,
+                   help="footage folder or file (a tree with --recursive)")
+    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
+    p.add_argument("--recursive", action="store_true", help="search the PATHs for footage")
+    p.add_argument("--workers", type=positive_int, default=None, metavar="N",
+                   help="local worker processes (default: all cores)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run on an existing dask.distributed scheduler (tcp://host:8786)")
+    p.add_argument("--resume", action="store_true",
+                   help="skip videos whose results are complete and current")
+    p.add_argument("--no-progress", action="store_true", help="no progress bars")
+    g = p.add_argument_group("analysis")
+    g.add_argument("--reference", type=Path, default=None, metavar="IMAGE",
+                   help="free-surface image (no block); default: built from the footage")
+    g.add_argument("--contrast", type=positive_number, default=None,
+                   help="contact darkness; threshold = half of it (default: estimated)")
+    g.add_argument("--min-area-px", type=positive_int, default=4,
+                   help="drop contact regions smaller than this (px, default 4)")
+    g.add_argument("--overlay-frames", type=int, default=4, metavar="N",
+                   help="overlay images per video (default 4, 0: none)")
+    g.add_argument("--no-overlay-video", action="store_true", help="do not write overlay.avi")
+    g.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+    m = p.add_argument_group(
+        "metadata", "override or give meta.json values (see docs/formats.md)"
+    )
+    for key in _meta_option_keys():
+        field = META_FIELDS[key]
+        m.add_argument(option_flag(key), dest="meta__" + key.replace(".", "__"),
+                       default=None, metavar="X", help=f"{field.description} ({key})")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the analysis; returns the exit code."""
+    from tir_contact._readers import FootageError
+    from tir_contact.analyze import AnalysisOptions
+    from tir_contact.batch import analyze_batch, find_footage
+
+    overrides = {
+        key: getattr(args, "meta__" + key.replace(".", "__"))
+        for key in _meta_option_keys()
+        if getattr(args, "meta__" + key.replace(".", "__"), None) is not None
+    }
+    try:
+        options = AnalysisOptions(
+            reference=str(args.reference) if args.reference else None,
+            contrast=args.contrast,
+            min_area_px=args.min_area_px,
+            overlay_frames=max(0, args.overlay_frames),
+            overlay_video=not args.no_overlay_video,
+            plots=not args.no_plots,
+        )
+        footage = find_footage(args.paths, recursive=args.recursive)
+    except (FootageError, ValueError) as exc:
+        print(f"tir-contact analyze: {exc}", file=sys.stderr)
+        return 2
+    progress = False if args.no_progress else None
+    report = analyze_batch(footage, args.out, overrides=overrides or None, options=options,
+                           workers=args.workers, scheduler=args.scheduler,
+                           resume=args.resume, progress=progress)
+    counts: dict[str, int] = {}
+    for v in report.videos:
+        counts[v.status] = counts.get(v.status, 0) + 1
+    for v in report.failed:
+        print(f"{v.status}: {v.path}: {v.message}", file=sys.stderr)
+    summary = ", ".join(f"{n} {s}" for s, n in sorted(counts.items()))
+    print(f"analysed {len(report.videos)} video(s) into {args.out}: {summary}")
+    return 0 if report.ok else 1

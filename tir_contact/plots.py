@@ -1,0 +1,111 @@
+"""Plots of one video's analysis: contact over time, per element."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["plot_video_results"]
+
+
+def _save(fig, path: Path) -> Path:
+    from tir_contact._outdir import atomic_write
+
+    atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return path
+
+
+def _shade_full(ax, frames: pd.DataFrame) -> None:
+    """Shade the time span where the whole block is in view."""
+    full = frames.loc[frames["block_fully_in_view"].astype(bool), "time_s"]
+    if len(full):
+        ax.axvspan(full.min() * 1e3, full.max() * 1e3, color="0.9", zorder=0,
+                   label="whole block in view")
+
+
+def plot_video_results(
+    frames: pd.DataFrame,
+    elements: pd.DataFrame,
+    folder: str | Path,
+    *,
+    view: str = "tir",
+    title: str = "",
+) -> list[Path]:
+    """Write the PNG plots of one video's results.
+
+    TIR view: ``contact.png`` (block contact area and contact ratio over time) and
+    ``elements.png`` (contact area, contact length and front-peak contrast per element over
+    time). Side view: ``deflection.png`` (deflection angle and tip deflection per element).
+
+    Parameters
+    ----------
+    frames, elements : pandas.DataFrame
+        ``frames.csv`` and ``elements.csv`` of :func:`tir_contact.analyze.analyze_video`.
+    folder : str or Path
+        Where the PNG files go.
+    view : {"tir", "side"}
+        Camera view of the footage.
+    title : str
+        Figure title (the video name).
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    folder = Path(folder)
+    written: list[Path] = []
+    t_ms = frames["time_s"].to_numpy() * 1e3
+    if view == "tir":
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+        for ax in (a1, a2):
+            _shade_full(ax, frames)
+        a1.plot(t_ms, frames["contact_area_mm2"], lw=1)
+        a1.set_ylabel("real contact area (mm²)")
+        a2.plot(t_ms, frames["contact_ratio"], lw=1, color="C1")
+        a2.set_ylabel("contact ratio (–)")
+        a2.set_xlabel("time (ms)")
+        a1.legend(loc="upper right", fontsize=8)
+        a1.set_title(title)
+        fig.tight_layout()
+        written.append(_save(fig, folder / "contact.png"))
+        quantities = [("contact_area_mm2", "contact area (mm²)"),
+                      ("contact_length_mm", "contact length (mm)"),
+                      ("front_peak_contrast", "front-peak contrast (–)")]
+        name = "elements.png"
+    else:
+        quantities = [("deflection_angle_deg", "deflection angle (°)"),
+                      ("tip_deflection_mm", "tip deflection (mm)")]
+        name = "deflection.png"
+    if len(elements):
+        fig, axes = plt.subplots(len(quantities), 1, figsize=(8, 2.4 * len(quantities)),
+                                 sharex=True, squeeze=False)
+        for ax, (col, label) in zip(axes[:, 0], quantities, strict=True):
+            _shade_full(ax, frames)
+            if col in elements:
+                for element, grp in elements.groupby("element"):
+                    ax.plot(grp["time_s"] * 1e3, grp[col], lw=1, label=f"element {element}")
+            ax.set_ylabel(label)
+        axes[-1, 0].set_xlabel("time (ms)")
+        n_el = elements["element"].nunique()
+        if n_el <= 8:
+            axes[0, 0].legend(loc="upper right", fontsize=7, ncol=min(n_el + 1, 4))
+        axes[0, 0].set_title(title)
+        fig.tight_layout()
+        written.append(_save(fig, folder / name))
+    elif view != "tir":
+        fig, ax = plt.subplots(figsize=(8, 3))
+        ax.plot(t_ms, np.full_like(t_ms, np.nan))
+        ax.set_title(f"{title}: no element found in any frame")
+        written.append(_save(fig, folder / name))
+    return written
