@@ -22,6 +22,17 @@ Test-rig evaluation (section 4.2.4 and 4.4), also in :mod:`friction_model.evalua
     :class:`RunFormatError`, :class:`EvaluationResult`.
 Calibration (Table 4.6)
     :func:`calibrate_table_4_6`, :func:`table_4_6_targets`, :func:`evaluate_on_table_4_6`.
+Coupling and identification (section 5.4), in :mod:`friction_model.coupling`,
+:mod:`friction_model.identification`, :mod:`friction_model.params_file`
+    :func:`contact_from_pipeline`, :class:`MeasuredContact`, :func:`drywet_inputs`,
+    :func:`lever_arm_observations`, :func:`fit_lever_arm`, :class:`LeverArmFit`,
+    :func:`identify_parameters`, :class:`IdentificationResult`, :class:`DeflectionSeries`,
+    :class:`SteadyCharacteristic`, :func:`linear_element_response`,
+    :func:`read_characteristic`, :func:`read_parameters`, :func:`write_parameters`,
+    :class:`ParameterFileError`.
+Velocity-step element model (Eq. 5.8 linearised, Eq. 5.12), :mod:`friction_model.element_step`
+    :func:`step_response`, :func:`step_element`, :class:`StepElement`.
+Discrepancy workflow: :mod:`friction_model.discrepancy`.
 """
 
 from friction_model.blok import dry_run_in_length, flash_temperature_rise
@@ -33,6 +44,14 @@ from friction_model.calibration import (
 )
 from friction_model.conditions import Conditions
 from friction_model.constants import ICE, WATER, IceProperties, WaterProperties
+from friction_model.coupling import (
+    LeverArmFit,
+    MeasuredContact,
+    contact_from_pipeline,
+    drywet_inputs,
+    fit_lever_arm,
+    lever_arm_observations,
+)
 from friction_model.drywet import (
     BlockFriction,
     DryWetParameters,
@@ -43,6 +62,7 @@ from friction_model.drywet import (
 )
 from friction_model.drywet_law import DryWetLaw
 from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
+from friction_model.element_step import StepElement, step_element, step_response
 from friction_model.evaluation import (
     EvaluationResult,
     RunFormatError,
@@ -56,6 +76,14 @@ from friction_model.evaluation import (
     write_outputs,
 )
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
+from friction_model.identification import (
+    DeflectionSeries,
+    IdentificationResult,
+    SteadyCharacteristic,
+    identify_parameters,
+    linear_element_response,
+    read_characteristic,
+)
 from friction_model.laws import (
     ArctanExponentialLaw,
     ConstantLaw,
@@ -68,6 +96,7 @@ from friction_model.laws import (
     VenkateshLaw,
     fit_law,
 )
+from friction_model.params_file import ParameterFileError, read_parameters, write_parameters
 from friction_model.water_layer import freezing_point_depression_K, initial_water_layer_m
 
 __all__ = [
@@ -83,6 +112,7 @@ __all__ = [
     "Conditions",
     "ConstantLaw",
     "DecreasingSqrtLaw",
+    "DeflectionSeries",
     "DryWetLaw",
     "DryWetParameters",
     "Effects",
@@ -91,13 +121,21 @@ __all__ = [
     "FitResult",
     "FrictionLaw",
     "IceProperties",
+    "IdentificationResult",
     "IncreasingSqrtLaw",
+    "LeverArmFit",
+    "MeasuredContact",
+    "ParameterFileError",
     "RelaxedFriction",
     "RunFormatError",
+    "SteadyCharacteristic",
+    "StepElement",
     "VenkateshLaw",
     "WaterProperties",
     "calibrate_table_4_6",
+    "contact_from_pipeline",
     "dry_run_in_length",
+    "drywet_inputs",
     "element_friction_table",
     "evaluate_folder",
     "evaluate_instationary_run",
@@ -106,15 +144,24 @@ __all__ = [
     "evaluate_steady_run",
     "find_constant_velocity_window",
     "fit_law",
+    "fit_lever_arm",
     "flash_temperature_rise",
     "freezing_point_depression_K",
     "friction_table",
+    "identify_parameters",
     "initial_water_layer_m",
+    "lever_arm_observations",
+    "linear_element_response",
     "mean_friction_coefficients",
+    "read_characteristic",
+    "read_parameters",
     "read_run",
     "real_contact_fraction",
     "reference_block",
     "simulate_block",
+    "step_element",
+    "step_response",
     "table_4_6_targets",
     "write_outputs",
+    "write_parameters",
 ]

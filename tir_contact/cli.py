@@ -8,9 +8,9 @@ import sys
 from collections.abc import Sequence
 
 from tir_contact import __version__
-from tir_contact.commands import analyze, demo, evaluate, synth
+from tir_contact.commands import analyze, calibrate, demo, evaluate, simulate, synth
 
-_COMMANDS = (analyze, evaluate, demo, synth)
+_COMMANDS = (analyze, evaluate, calibrate, simulate, demo, synth)
 
 
 def build_parser() -> argparse.ArgumentParser:

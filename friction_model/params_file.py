@@ -1,0 +1,462 @@
+"""The calibrated-parameter file: JSON written by ``tir-contact calibrate``, read by
+``tir-contact simulate`` and the discrepancy workflow.
+
+One UTF-8 JSON object with a schema name and version, a provenance record and up to five
+sections, each optional (a calibration fills what its inputs determine)::
+
+    {"schema": "tir-contact/parameters", "schema_version": 1,
+     "provenance": {...}, "geometry": {...}, "contact": {...}, "lever_arm": {...},
+     "friction_law": {...}, "element": {...}}
+
+Units are in the key names (SI unless the name says ``_mm``, ``_mm2``, ``_deg``, ``_pct``).
+Every value is checked on writing and on reading; a bad file gives a
+:class:`ParameterFileError` whose one-line message names the file and the key. Files are
+written atomically (a temporary file beside the target, then :func:`os.replace`).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import math
+import numbers
+import os
+import tempfile
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "SCHEMA",
+    "SCHEMA_VERSION",
+    "SECTIONS",
+    "ParameterFileError",
+    "friction_law_from",
+    "lever_arm_kwargs_from",
+    "read_parameters",
+    "sdof_params_from",
+    "write_parameters",
+]
+
+#: Value of the top-level ``schema`` key.
+SCHEMA = "tir-contact/parameters"
+#: Version of the layout below; readers refuse newer versions.
+SCHEMA_VERSION = 1
+
+# key -> (kind, required); kinds: "number", "number>0", "number>=0", "fraction", "int>=0",
+# "text", "numbers" (list of numbers), "mapping" (str -> number or null), "object"
+_SPEC: dict[str, dict[str, tuple[str, bool]]] = {
+    "geometry": {
+        "length_mm": ("number>0", True),
+        "width_mm": ("number>0", True),
+        "n_sipes": ("int>=0", True),
+        "sipe_width_mm": ("number>=0", True),
+        "height_mm": ("number>0", True),
+        "element_lengths_mm": ("numbers", False),
+    },
+    "contact": {
+        "contact_fraction": ("fraction", True),
+        "contact_fraction_std": ("number>=0", False),
+        "contact_fraction_per_element": ("numbers", False),
+        "contact_ratio": ("fraction", False),
+        "real_contact_area_mm2": ("number>0", False),
+        "normal_force_N": ("number>0", False),
+        "nominal_pressure_Pa": ("number>0", False),
+        "pressure_local_Pa": ("number>0", False),
+        "n_frames": ("int>=0", False),
+    },
+    "lever_arm": {
+        "e1": ("number", True),
+        "e2_per_rad": ("number>=0", True),
+        "e3_m": ("number", True),
+        "e4_m": ("number", True),
+        "element_length_m": ("number>0", True),
+        "observation": ("text", False),
+        "stderr": ("mapping", False),
+        "ci_low": ("mapping", False),
+        "ci_high": ("mapping", False),
+        "confidence_level": ("fraction", False),
+        "rmse_m": ("number>=0", False),
+        "n_points": ("int>=0", False),
+    },
+    "friction_law": {
+        "law": ("text", True),
+        "params": ("mapping", True),
+        "equation": ("text", False),
+        "stderr": ("mapping", False),
+        "ci_low": ("mapping", False),
+        "ci_high": ("mapping", False),
+        "confidence_level": ("fraction", False),
+        "rmse": ("number>=0", False),
+        "n_points": ("int>=0", False),
+        "velocity_range_mps": ("numbers", False),
+    },
+    "element": {
+        "youngs_modulus_Pa": ("number>0", True),
+        "loss_factor": ("number>=0", True),
+        "density_kg_m3": ("number>0", True),
+        "height_m": ("number>0", True),
+        "element_length_m": ("number>0", True),
+        "width_m": ("number>0", True),
+        "normal_force_N": ("number>=0", False),
+        "relaxation_time_s": ("number>=0", False),
+        "tip_velocity_feedback": ("bool", False),
+        "natural_frequency_Hz": ("number>0", False),
+        "stderr": ("mapping", False),
+        "ci_low": ("mapping", False),
+        "ci_high": ("mapping", False),
+        "ci_method": ("text", False),
+        "confidence_level": ("fraction", False),
+        "rmse_deg": ("number>=0", False),
+        "n_points": ("int>=0", False),
+    },
+}
+#: The optional sections of the file and their keys.
+SECTIONS = tuple(_SPEC)
+
+
+class ParameterFileError(ValueError):
+    """A parameter file that cannot be read or written; the message names file and key."""
+
+
+def _fail(path: Path | str, key: str, what: str) -> ParameterFileError:
+    return ParameterFileError(f"{path}: '{key}' {what}")
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, numbers.Real) and not isinstance(x, bool) and math.isfinite(float(x))
+
+
+def _check_value(path: Path | str, key: str, kind: str, value: Any) -> Any:
+    """Check one value against its kind; return it as a plain JSON value."""
+    if kind == "text":
+        if not isinstance(value, str):
+            raise _fail(path, key, f"must be text, got {value!r} ({type(value).__name__})")
+        return value
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise _fail(path, key, f"must be true or false, got {value!r}")
+        return value
+    if kind == "object":
+        if not isinstance(value, Mapping):
+            raise _fail(path, key, f"must be a JSON object, got {type(value).__name__}")
+        return dict(value)
+    if kind == "numbers":
+        if isinstance(value, str | bytes) or not hasattr(value, "__iter__"):
+            raise _fail(path, key, f"must be a list of numbers, got {value!r}")
+        out = list(value)
+        for i, x in enumerate(out):
+            if not _is_number(x):
+                raise _fail(path, f"{key}[{i}]", f"must be a finite number, got {x!r}")
+        return [float(x) for x in out]
+    if kind == "mapping":
+        if not isinstance(value, Mapping):
+            raise _fail(path, key, f"must be a JSON object of numbers, got {value!r}")
+        res: dict[str, float | None] = {}
+        for k, x in value.items():
+            if x is None or (isinstance(x, float) and not math.isfinite(x)):
+                res[str(k)] = None  # not determined (e.g. an infinite standard error)
+            elif _is_number(x):
+                res[str(k)] = float(x)
+            else:
+                raise _fail(path, f"{key}.{k}", f"must be a number or null, got {x!r}")
+        return res
+    if kind == "int>=0":
+        whole = _is_number(value) and float(value).is_integer()
+        if not whole or value < 0:
+            raise _fail(path, key, f"must be an integer >= 0, got {value!r}")
+        return int(value)
+    if not _is_number(value):
+        raise _fail(path, key, f"must be a finite number, got {value!r}")
+    x = float(value)
+    rule = {
+        "number>0": (x > 0, "> 0"),
+        "number>=0": (x >= 0, ">= 0"),
+        "fraction": (0 <= x <= 1, "in [0, 1]"),
+        "number": (True, ""),
+    }[kind]
+    if not rule[0]:
+        raise _fail(path, key, f"must be a number {rule[1]}, got {value!r}")
+    return x
+
+
+def _check_section(path: Path | str, name: str, section: Any) -> dict[str, Any]:
+    if not isinstance(section, Mapping):
+        raise _fail(path, name, f"must be a JSON object, got {type(section).__name__}")
+    spec = _SPEC[name]
+    out: dict[str, Any] = {}
+    for key, (kind, required) in spec.items():
+        if key not in section or section[key] is None:
+            if required:
+                raise _fail(path, f"{name}.{key}", "is missing")
+            continue
+        out[key] = _check_value(path, f"{name}.{key}", kind, section[key])
+    unknown = sorted(set(section) - set(spec))
+    if unknown:
+        raise _fail(
+            path, f"{name}.{unknown[0]}", f"is not a known key of '{name}' (known: {sorted(spec)})"
+        )
+    if name == "geometry":
+        lengths = out.get("element_lengths_mm")
+        if lengths is not None and len(lengths) != out["n_sipes"] + 1:
+            raise _fail(
+                path,
+                "geometry.element_lengths_mm",
+                f"must have n_sipes + 1 = {out['n_sipes'] + 1} entries, got {len(lengths)}",
+            )
+    if name == "friction_law":
+        from friction_model import laws
+
+        cls = getattr(laws, out["law"], None)
+        if not (isinstance(cls, type) and issubclass(cls, laws.FrictionLaw)):
+            known = sorted(
+                n
+                for n in laws.__all__
+                if isinstance(getattr(laws, n), type)
+                and issubclass(getattr(laws, n), laws.FrictionLaw)
+                and n != "FrictionLaw"
+            )
+            raise _fail(
+                path, "friction_law.law", f"must name a friction law {known}, got {out['law']!r}"
+            )
+        missing = [p for p in cls.param_names if out["params"].get(p) is None]
+        if missing:
+            raise _fail(path, f"friction_law.params.{missing[0]}", f"is missing (law {out['law']})")
+    return out
+
+
+def _validate(path: Path | str, doc: Any) -> dict[str, Any]:
+    if not isinstance(doc, Mapping):
+        raise ParameterFileError(
+            f"{path}: expected a JSON object {{...}} at the top, got {type(doc).__name__}"
+        )
+    if doc.get("schema") != SCHEMA:
+        raise _fail(path, "schema", f"must be {SCHEMA!r}, got {doc.get('schema')!r}")
+    version = doc.get("schema_version")
+    if isinstance(version, bool) or not isinstance(version, int) or version < 1:
+        raise _fail(path, "schema_version", f"must be an integer >= 1, got {version!r}")
+    if version > SCHEMA_VERSION:
+        raise _fail(
+            path,
+            "schema_version",
+            f"is {version}, newer than this reader's {SCHEMA_VERSION}: update tir-contact",
+        )
+    out: dict[str, Any] = {"schema": SCHEMA, "schema_version": version}
+    prov = doc.get("provenance", {})
+    out["provenance"] = _check_value(path, "provenance", "object", prov)
+    for name in SECTIONS:
+        if doc.get(name) is not None:
+            out[name] = _check_section(path, name, doc[name])
+    unknown = sorted(set(doc) - {"schema", "schema_version", "provenance", *SECTIONS})
+    if unknown:
+        raise _fail(path, unknown[0], f"is not a known top-level key ({['provenance', *SECTIONS]})")
+    if not any(name in out for name in SECTIONS):
+        raise ParameterFileError(f"{path}: holds none of the sections {list(SECTIONS)}")
+    return out
+
+
+def _json_safe(obj: Any) -> Any:
+    """Plain JSON values: numpy scalars to Python, non-finite floats to null."""
+    if isinstance(obj, Mapping):
+        return {str(k): _json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_json_safe(v) for v in obj]
+    if hasattr(obj, "tolist") and not isinstance(obj, str):
+        return _json_safe(obj.tolist())
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return obj
+    if isinstance(obj, numbers.Integral):
+        return int(obj)
+    if isinstance(obj, numbers.Real):
+        x = float(obj)
+        return x if math.isfinite(x) else None
+    return str(obj)
+
+
+def write_parameters(
+    path: str | os.PathLike[str],
+    *,
+    geometry: Mapping[str, Any] | None = None,
+    contact: Mapping[str, Any] | None = None,
+    lever_arm: Mapping[str, Any] | None = None,
+    friction_law: Mapping[str, Any] | None = None,
+    element: Mapping[str, Any] | None = None,
+    provenance: Mapping[str, Any] | None = None,
+) -> Path:
+    """Write a parameter file atomically.
+
+    Parameters
+    ----------
+    path : path-like
+        Target ``.json`` file; its folder must exist.
+    geometry, contact, lever_arm, friction_law, element : mapping, optional
+        The sections (keys in :data:`SECTIONS`, see docs/formats.md "Parameter file");
+        at least one. Numpy values are converted; non-finite numbers become ``null``.
+    provenance : mapping, optional
+        Free-form record of how the parameters were obtained (inputs, options); the
+        package, its version and the UTC time are added.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ParameterFileError
+        If a section is malformed (the message names the key) or the folder is missing.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "params.json"
+    >>> _ = write_parameters(p, friction_law={"law": "ConstantLaw", "params": {"mu0": 0.12}})
+    >>> read_parameters(p)["friction_law"]["params"]
+    {'mu0': 0.12}
+    """
+    path = Path(path)
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        pkg_version = version("tir-contact")
+    except PackageNotFoundError:  # pragma: no cover - source tree without installation
+        pkg_version = "unknown"
+    prov = {
+        "package": "tir-contact",
+        "package_version": pkg_version,
+        "created_utc": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        **_json_safe(dict(provenance or {})),
+    }
+    doc: dict[str, Any] = {"schema": SCHEMA, "schema_version": SCHEMA_VERSION, "provenance": prov}
+    for name, section in (
+        ("geometry", geometry),
+        ("contact", contact),
+        ("lever_arm", lever_arm),
+        ("friction_law", friction_law),
+        ("element", element),
+    ):
+        if section is not None:
+            doc[name] = {k: v for k, v in _json_safe(dict(section)).items() if v is not None}
+    _validate(path, doc)
+    if not path.parent.is_dir():
+        raise ParameterFileError(f"{path}: folder {path.parent} does not exist")
+    text = json.dumps(doc, indent=2, sort_keys=False, allow_nan=False) + "\n"
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def read_parameters(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """Read and check a parameter file.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.json`` file written by :func:`write_parameters` (or by hand).
+
+    Returns
+    -------
+    dict
+        ``schema``, ``schema_version``, ``provenance`` and the sections present, with
+        numbers as float (counts as int) and undetermined values (``null``) as None.
+
+    Raises
+    ------
+    ParameterFileError
+        Missing file, invalid JSON, wrong schema or version, a missing, unknown or
+        out-of-range key; the one-line message names the file and the key.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ParameterFileError(f"{path}: does not exist") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ParameterFileError(f"{path}: cannot be read ({exc})") from None
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ParameterFileError(f"{path}: not valid JSON ({exc})") from None
+    return _validate(path, doc)
+
+
+def friction_law_from(parameters: Mapping[str, Any]):
+    """The :class:`~friction_model.laws.FrictionLaw` of a read parameter file.
+
+    Parameters
+    ----------
+    parameters : mapping
+        Output of :func:`read_parameters`.
+
+    Returns
+    -------
+    FrictionLaw or None
+        None when the file has no ``friction_law`` section.
+    """
+    from friction_model import laws
+
+    section = parameters.get("friction_law")
+    if section is None:
+        return None
+    cls = getattr(laws, section["law"])
+    return cls(**{k: section["params"][k] for k in cls.param_names})
+
+
+def sdof_params_from(parameters: Mapping[str, Any]):
+    """The element as :class:`~friction_model.dynamics.SdofParams` (None without ``element``).
+
+    Parameters
+    ----------
+    parameters : mapping
+        Output of :func:`read_parameters`.
+
+    Returns
+    -------
+    SdofParams or None
+        Geometry, density, E and loss factor of the file; the derived constants follow
+        from them as in :class:`~friction_model.dynamics.SdofParams`.
+    """
+    from friction_model.dynamics.rigid import SdofParams
+
+    el = parameters.get("element")
+    if el is None:
+        return None
+    return SdofParams(
+        length_m=el["height_m"],
+        element_length_m=el["element_length_m"],
+        width_m=el["width_m"],
+        youngs_modulus_Pa=el["youngs_modulus_Pa"],
+        density_kg_m3=el["density_kg_m3"],
+        loss_factor=el["loss_factor"],
+    )
+
+
+def lever_arm_kwargs_from(parameters: Mapping[str, Any]) -> dict[str, float] | None:
+    """Keyword arguments of :class:`~friction_model.dynamics.TimoshenkoParams` for e(phi).
+
+    Parameters
+    ----------
+    parameters : mapping
+        Output of :func:`read_parameters`.
+
+    Returns
+    -------
+    dict or None
+        ``e1, e2_per_rad, e3_m, e4_m, length_m`` (Eq. 5.21/5.22); None without ``lever_arm``.
+    """
+    la = parameters.get("lever_arm")
+    if la is None:
+        return None
+    return {
+        "e1": la["e1"],
+        "e2_per_rad": la["e2_per_rad"],
+        "e3_m": la["e3_m"],
+        "e4_m": la["e4_m"],
+        "length_m": la["element_length_m"],
+    }

@@ -1,0 +1,317 @@
+"""Tests of ``tir-contact calibrate`` and ``tir-contact simulate`` (parsers built here) and of
+the parameter file (friction_model.params_file)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from numpy.testing import assert_allclose
+
+from friction_model.coupling import lever_arm_eq_5_21
+from friction_model.dynamics import SdofParams, TimoshenkoParams
+from friction_model.geometry import reference_block
+from friction_model.identification import linear_element_response
+from friction_model.laws import DecreasingSqrtLaw
+from friction_model.params_file import (
+    ParameterFileError,
+    friction_law_from,
+    read_parameters,
+    write_parameters,
+)
+from tir_contact.commands import calibrate, simulate
+
+LAW = DecreasingSqrtLaw(A_D=0.03, B_D=0.12)
+E_TRUE, ETA_TRUE = 3.0e6, 0.25
+CF = np.array([0.9, 0.85, 0.8, 0.75])  # contact length / l_i of the four G3 elements
+P_BAR = 0.5  # nominal pressure: 80 N on the block, 20 N per element
+
+
+def main(argv: list[str]) -> int:
+    top = argparse.ArgumentParser(prog="tir-contact")
+    sub = top.add_subparsers(dest="command", required=True)
+    calibrate.add_parser(sub)
+    simulate.add_parser(sub)
+    args = top.parse_args(argv)
+    return args.func(args)
+
+
+def lever_truth() -> dict[str, float]:
+    p = TimoshenkoParams(
+        E_Pa=3e6, density_kg_m3=1150.0, kelvin_voigt_s=0.0, contact_stiffness_N_m=1e6
+    )
+    e3, e4 = p.lever_arm_e3_e4
+    return {"e1": 12.0, "e2_per_rad": 28.0, "e3_m": e3, "e4_m": e4}
+
+
+def make_tir_results(folder):
+    """A pipeline output folder as a perfect pipeline would write it (G3 sliding left)."""
+    folder.mkdir()
+    geom = reference_block("G3")
+    ell = geom.element_lengths
+    frames, elements = [], []
+    for k in range(30):
+        x0 = 38.0 - k  # leading edge, mm; the 20 mm block stays inside the 60 mm image
+        phi_deg = 40.0 * k / 29
+        areas = []
+        for i in range(4):
+            front = x0 + geom.element_front_positions_mm[i]
+            angle = phi_deg + 0.5 * i
+            e_mm = 1e3 * lever_arm_eq_5_21(
+                math.radians(angle), length_m=ell[i] * 1e-3, **lever_truth()
+            )
+            length = CF[i] * ell[i]
+            areas.append(length * 25.6)
+            elements.append(
+                {
+                    "frame": k,
+                    "time_s": k * 1e-3,
+                    "element": i,
+                    "contact_area_mm2": areas[-1],
+                    "contact_length_mm": length,
+                    "front_edge_x_mm": front,
+                    "front_peak_x_mm": front + (0.5 * ell[i] - e_mm),
+                    "front_peak_contrast": 0.1,
+                    "liftoff_mm": 0.0,
+                    "deflection_angle_deg": angle,
+                }
+            )
+        frames.append(
+            {
+                "frame": k,
+                "time_s": k * 1e-3,
+                "block_in_view": True,
+                "block_front_x_mm": x0,
+                "contact_area_mm2": sum(areas),
+                "contact_ratio": sum(areas) / (20.0 * 25.6),
+                "n_elements_in_contact": 4,
+                "front_peak_x_mm": elements[-4]["front_peak_x_mm"],
+                "front_peak_contrast": 0.1,
+            }
+        )
+    pd.DataFrame(frames).to_csv(folder / "frames.csv", index=False)
+    pd.DataFrame(elements).to_csv(folder / "elements.csv", index=False)
+    meta = {
+        "view": "tir",
+        "sliding_direction": "left",
+        "width_px": 600,
+        "mm_per_px": 0.1,
+        "block": {"preset": "G3"},
+        "conditions": {"velocity_mps": 1.0, "pressure_bar": P_BAR},
+    }
+    (folder / "meta.json").write_text(json.dumps(meta))
+    return folder
+
+
+def make_characteristic(path, seed=0):
+    rng = np.random.default_rng(seed)
+    v = np.repeat([0.5, 1.0, 2.0, 3.0, 5.0, 8.0], 2)
+    mu = LAW(v) * (1 + 0.01 * rng.standard_normal(v.size))
+    pd.DataFrame({"velocity_mps": v, "mu": mu, "mu_std": 0.01 * LAW(v)}).to_csv(path, index=False)
+    return path
+
+
+def make_transient(path, seed=1):
+    truth = SdofParams(youngs_modulus_Pa=E_TRUE, loss_factor=ETA_TRUE)
+    t = np.arange(0.0, 0.02, 1e-4)
+    v = np.where(t >= 0.004, 5.0, 1.0)
+    fn = P_BAR * 1e5 * 1600e-6 / 4
+    phi = linear_element_response(truth, time_s=t, velocity_mps=v, friction=LAW, normal_force_N=fn)
+    noise = np.random.default_rng(seed).normal(0.0, 0.01, t.size)
+    pd.DataFrame({"time_s": t, "velocity_mps": v, "angle_deg": np.degrees(phi) + noise}).to_csv(
+        path, index=False
+    )
+    return path
+
+
+def test_calibrate_then_simulate(tmp_path, capsys):
+    tir = make_tir_results(tmp_path / "tir")
+    char = make_characteristic(tmp_path / "steady.csv")
+    trans = make_transient(tmp_path / "step.csv")
+    out = tmp_path / "params.json"
+    argv = [
+        "calibrate",
+        "--footage",
+        str(tir),
+        "--characteristic",
+        str(char),
+        "--transient",
+        str(trans),
+    ]
+    assert main([*argv, "--out", str(out), "--pressure-bar", str(P_BAR)]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith(
+        f"wrote {out}: geometry, contact, lever_arm, friction_law, element"
+    )
+    params = read_parameters(out)
+    assert params["schema_version"] == 1
+    assert params["provenance"]["command"] == "calibrate"
+    # contact: sum(cf_i l_i) / sum(l_i) with equal lengths is mean(cf) = 0.825, exactly
+    c = params["contact"]
+    assert c["contact_fraction"] == pytest.approx(CF.mean(), rel=1e-9)
+    assert_allclose(c["contact_fraction_per_element"], CF, rtol=1e-9)
+    assert c["pressure_local_Pa"] == pytest.approx(
+        80.0 / (CF.mean() * 4 * 4.55 * 80 * 1e-6), rel=1e-9
+    )
+    # lever arm: exact observations (0 .. 41.5 deg) -> e(phi) recovered to 1e-6 mm
+    la = params["lever_arm"]
+    grid = np.radians(np.linspace(0.0, 40.0, 41))
+    fitted = lever_arm_eq_5_21(
+        grid,
+        length_m=la["element_length_m"],
+        **{k: la[k] for k in ("e1", "e2_per_rad", "e3_m", "e4_m")},
+    )
+    assert_allclose(fitted, lever_arm_eq_5_21(grid, length_m=4.55e-3, **lever_truth()), atol=1e-9)
+    # law and element: 'auto' finds Eq. 4.8; E and tan(delta) from the step (0.01 deg noise)
+    law = friction_law_from(params)
+    assert type(law).__name__ == "DecreasingSqrtLaw"
+    assert law.A_D == pytest.approx(0.03, rel=0.05) and law.B_D == pytest.approx(0.12, rel=0.02)
+    el = params["element"]
+    assert el["youngs_modulus_Pa"] == pytest.approx(E_TRUE, rel=0.01)
+    assert el["loss_factor"] == pytest.approx(ETA_TRUE, rel=0.1)
+    assert el["ci_low"]["youngs_modulus_Pa"] < E_TRUE < el["ci_high"]["youngs_modulus_Pa"]
+    assert el["normal_force_N"] == pytest.approx(20.0)
+
+    sim = tmp_path / "sim"
+    assert (
+        main(["simulate", "--params", str(out), "--out", str(sim), "--velocity-step", "1,5"]) == 0
+    )
+    assert "wrote mu_v.csv, mu_v.png, step_response.csv" in capsys.readouterr().out
+    mu_v = pd.read_csv(sim / "mu_v.csv")
+    assert_allclose(mu_v["mu"], law(mu_v["velocity_mps"].to_numpy()), rtol=1e-9)
+    step = pd.read_csv(sim / "step_response.csv")
+    p = SdofParams(youngs_modulus_Pa=el["youngs_modulus_Pa"], loss_factor=el["loss_factor"])
+    c_eff = (
+        p.spring_constant_Nm_rad - 20.0 * p.length_m + p.mass_kg * p.gravity_mps2 * p.length_m / 2
+    )
+    # the simulation runs > 10 decay times after the step: the static angle of Eq. 5.8
+    assert step["angle_deg"].iloc[-1] == pytest.approx(
+        math.degrees(20.0 * p.length_m * law(5.0) / c_eff), rel=1e-4
+    )
+    lever = pd.read_csv(sim / "lever_arm.csv")
+    assert lever["lever_arm_mm"].iloc[-1] == pytest.approx(1.9, abs=0.05)  # Fig. 5.12 a
+    for png in ("mu_v.png", "step_response.png", "lever_arm.png"):
+        assert (sim / png).stat().st_size > 1000
+
+
+def test_calibrate_characteristic_only_writes_a_law_with_intervals(tmp_path, capsys):
+    char = make_characteristic(tmp_path / "steady.csv", seed=3)
+    out = tmp_path / "p.json"
+    assert (
+        main(
+            [
+                "calibrate",
+                "--characteristic",
+                str(char),
+                "--law",
+                "DecreasingSqrtLaw",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
+    fl = read_parameters(out)["friction_law"]
+    for k, truth in LAW.params.items():
+        assert fl["ci_low"][k] < truth < fl["ci_high"][k]
+    assert fl["velocity_range_mps"] == [0.5, 8.0]
+    assert "element" not in read_parameters(out)
+
+
+def test_calibrate_errors_and_exit_codes(tmp_path, capsys):
+    out = str(tmp_path / "p.json")
+    assert main(["calibrate", "--out", out]) == 2
+    assert "give at least one of --footage" in capsys.readouterr().err
+    assert main(["calibrate", "--characteristic", str(tmp_path / "nope.csv"), "--out", out]) == 2
+    assert "nope.csv: does not exist" in capsys.readouterr().err
+    bad = tmp_path / "bad.csv"
+    pd.DataFrame({"v": [1, 2], "mu": [0.1, 0.2]}).to_csv(bad, index=False)
+    assert main(["calibrate", "--characteristic", str(bad), "--out", out]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "missing column 'velocity_mps'" in err
+    assert main(["calibrate", "--footage", str(tmp_path), "--out", out]) == 2
+    assert "frames.csv does not exist" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as exc:
+        main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"])
+    assert exc.value.code == 2
+
+
+def test_simulate_errors(tmp_path, capsys):
+    assert main(["simulate", "--params", str(tmp_path / "none.json"), "--out", str(tmp_path)]) == 2
+    assert "none.json: does not exist" in capsys.readouterr().err
+    broken = tmp_path / "broken.json"
+    broken.write_text(
+        json.dumps(
+            {
+                "schema": "tir-contact/parameters",
+                "schema_version": 1,
+                "friction_law": {"law": "DecreasingSqrtLaw", "params": {"A_D": 0.1}},
+            }
+        )
+    )
+    assert main(["simulate", "--params", str(broken), "--out", str(tmp_path / "o")]) == 1
+    assert "'friction_law.params.B_D' is missing" in capsys.readouterr().err
+
+
+def test_parameter_file_round_trip_and_errors(tmp_path):
+    path = tmp_path / "p.json"
+    write_parameters(
+        path,
+        element={
+            "youngs_modulus_Pa": np.float64(3e6),
+            "loss_factor": 0.2,
+            "density_kg_m3": 1150.0,
+            "height_m": 6e-3,
+            "element_length_m": 4.55e-3,
+            "width_m": 0.08,
+            "stderr": {"youngs_modulus_Pa": math.inf},
+        },
+        provenance={"source": "test"},
+    )
+    doc = read_parameters(path)
+    assert doc["element"]["youngs_modulus_Pa"] == 3e6
+    assert doc["element"]["stderr"]["youngs_modulus_Pa"] is None  # inf -> null
+    assert doc["provenance"]["source"] == "test" and "created_utc" in doc["provenance"]
+    assert not list(tmp_path.glob(".*.tmp"))  # the temporary file was moved into place
+    text = json.loads(path.read_text())
+    text["element"]["loss_factor"] = -1
+    path.write_text(json.dumps(text))
+    with pytest.raises(
+        ParameterFileError, match=r"p\.json: 'element\.loss_factor' must be a number >= 0"
+    ):
+        read_parameters(path)
+    text["schema_version"] = 9
+    path.write_text(json.dumps(text))
+    with pytest.raises(ParameterFileError, match="'schema_version' is 9, newer"):
+        read_parameters(path)
+    path.write_text("{not json")
+    with pytest.raises(ParameterFileError, match="not valid JSON"):
+        read_parameters(path)
+    with pytest.raises(ParameterFileError, match=r"'lever_arm\.e1' is missing"):
+        write_parameters(tmp_path / "q.json", lever_arm={"e2_per_rad": 1.0})
+    assert not (tmp_path / "q.json").exists()
+
+
+def test_calibrate_on_a_synthetic_transient_table(tmp_path, capsys):
+    """synthetic.measurements' velocity step (friction follows the carriage): E0, tan(delta)."""
+    from synthetic.measurements import make_transient_table, write_table
+
+    table = make_transient_table(noise=0.02, rng=12, pressure_bar=0.8)
+    truth = table.attrs["truth"]
+    path = write_table(table, tmp_path / "step.csv")
+    out = tmp_path / "p.json"
+    argv = ["calibrate", "--transient", str(path), "--pressure-bar", "0.8", "--no-tip-feedback"]
+    assert main([*argv, "--out", str(out), "--ci", "jacobian"]) == 0
+    el = read_parameters(out)["element"]
+    # exact forward model, 2 % noise on a 19 deg angle: E to 0.2 %, tan(delta) to 3 % (seed 12:
+    # -0.03 % and -1.4 %); the 95 % intervals cover the truth
+    assert el["youngs_modulus_Pa"] == pytest.approx(truth["youngs_modulus_static_Pa"], rel=2e-3)
+    assert el["loss_factor"] == pytest.approx(truth["loss_factor"], rel=0.03)
+    assert el["ci_low"]["loss_factor"] < truth["loss_factor"] < el["ci_high"]["loss_factor"]
+    assert el["tip_velocity_feedback"] is False
+    law = friction_law_from(read_parameters(out))
+    assert_allclose(law(np.array([1.0, 5.0])), [truth["mu_before"], truth["mu_after"]], rtol=0.01)
