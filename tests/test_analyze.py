@@ -247,3 +247,23 @@ def test_block_that_never_leaves_uses_per_frame_background(tmp_path):
     rel = (res.frames.set_index("frame").contact_area_mm2 - block.contact_area_mm2).abs()
     # per-frame background (closing) is rougher than a clean reference: 5 % allowed
     assert (rel / block.contact_area_mm2).median() <= 0.05
+
+
+def test_side_view_deflection_against_ground_truth(tmp_path):
+    """Side view through the pipeline: median angle error <= 0.5 deg (issue requirement)."""
+    folder = _render(tmp_path / "side", view="side", preset="G7")
+    res = analyze_video(folder, tmp_path / "out", options=AnalysisOptions(
+        overlay_video=True, overlay_frames=2, parquet=False))
+    truth = pd.read_csv(folder / "ground_truth.csv")
+    el = truth[(truth.element >= 0) & truth.in_view]
+    merged = el.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
+    err = (merged.deflection_angle_deg - merged.deflection_angle_deg_t).abs()
+    assert err.median() <= 0.5
+    assert merged.deflection_angle_deg.notna().mean() >= 0.8
+    block = truth[truth.element == -1].set_index("frame")
+    frames = res.frames.set_index("frame")
+    empty = block.index[~block.in_view]
+    assert not frames.loc[empty, "block_in_view"].astype(bool).any()
+    out = tmp_path / "out" / "side"
+    assert (out / "deflection.png").is_file() and (out / "overlay.avi").is_file()
+    assert len(list((out / "overlays").glob("*.png"))) == 2

@@ -14,7 +14,7 @@ Reference and segmentation (:mod:`tir_contact.calibrate`, :mod:`tir_contact.segm
 Features (:mod:`tir_contact.features`, :mod:`tir_contact.side`)
     :class:`BlockLayout`, :func:`tir_frame_features`, :func:`tir_frame_records`,
     :class:`FrameFeatures`, :func:`side_frame_features`, :func:`side_darkness`,
-    :class:`SideFeatures`.
+    :func:`ice_line_y_px`, :class:`SideFeatures`.
 Whole videos and batches (:mod:`tir_contact.analyze`, :mod:`tir_contact.batch`)
     :func:`analyze_video`, :class:`AnalysisOptions`, :class:`VideoAnalysis`,
     :func:`find_footage`, :func:`analyze_batch`, :class:`BatchReport`.
@@ -57,6 +57,7 @@ _LAZY = {
     "SideFeatures": "tir_contact.side",
     "side_darkness": "tir_contact.side",
     "side_frame_features": "tir_contact.side",
+    "ice_line_y_px": "tir_contact.side",
     "AnalysisOptions": "tir_contact.analyze",
     "VideoAnalysis": "tir_contact.analyze",
     "analyze_video": "tir_contact.analyze",

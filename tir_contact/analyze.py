@@ -439,6 +439,7 @@ class _FrameAnalyser:
         self.normalise = (
             _Normaliser(setup.reference, setup.contact_is) if setup.reference else None
         )
+        self.ice_y_px: float | None = None
         self.want_regions = options.regions == "always" or (
             options.regions == "auto" and setup.layout.element_lengths_mm is None
         )
@@ -475,7 +476,11 @@ class _FrameAnalyser:
         t = k / s.fps
         d = side_darkness(frame, contact_is=s.contact_is, reference=s.reference)
         valid = s.reference.valid if s.reference is not None else None
-        feats = side_frame_features(d, s.layout, valid=valid)
+        if self.ice_y_px is None and s.reference is not None:
+            from tir_contact.side import ice_line_y_px
+
+            self.ice_y_px = ice_line_y_px(s.reference.image, contact_is=s.contact_is)
+        feats = side_frame_features(d, s.layout, valid=valid, ice_y_px=self.ice_y_px)
         row = {"frame": k, "time_s": t, **feats.frame}
         row["block_fully_in_view"] = bool(row.get("block_in_view")) and _fully_in_view(
             row.get("block_front_x_mm", np.nan), s)
