@@ -285,7 +285,9 @@ def contact_from_pipeline(
     if not (math.isfinite(visible_width_mm) and visible_width_mm > 0):
         raise ValueError(f"{esrc}: cannot derive the visible block width from the element rows")
 
-    lc = wide.to_numpy(float)  # (n_frames, n_el), mm
+    # a contact edge is found to a fraction of a pixel, so an element in full contact can
+    # measure slightly longer than its nominal length; a contact fraction cannot exceed 1
+    lc = np.minimum(wide.to_numpy(float), lengths[None, :])  # (n_frames, n_el), mm
     per_frame = lc.sum(axis=1) / lengths.sum()
     fraction = float(per_frame.mean())
     per_element = (lc / lengths[None, :]).mean(axis=0)

@@ -267,3 +267,22 @@ def test_side_view_deflection_against_ground_truth(tmp_path):
     out = tmp_path / "out" / "side"
     assert (out / "deflection.png").is_file() and (out / "overlay.avi").is_file()
     assert len(list((out / "overlays").glob("*.png"))) == 2
+
+
+def test_calibrate_reads_the_analysis_output(analysed, tmp_path):
+    """`tir-contact calibrate` takes an analyze result folder as it is (meta from summary.json).
+
+    Truth: the renderer's per-element contact_fraction over the frames with the whole block in
+    view; the measured fraction must agree within 2 % (the area accuracy of the pipeline).
+    """
+    clip, res = analysed
+    params = tmp_path / "params.json"
+    code = main(["calibrate", "--footage", str(res), "--out", str(params)])
+    assert code == 0
+    doc = json.loads(params.read_text())
+    frames = pd.read_csv(res / "frames.csv")
+    full = frames.loc[frames.block_fully_in_view.astype(bool), "frame"]
+    truth = pd.read_csv(clip / "ground_truth.csv")
+    t = truth[(truth.element >= 0) & truth.frame.isin(full)]
+    assert doc["contact"]["contact_fraction"] == pytest.approx(t.contact_fraction.mean(), rel=0.02)
+    assert "lever_arm" in doc  # the sliding direction came from summary.json's meta

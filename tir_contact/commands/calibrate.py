@@ -13,7 +13,8 @@ Usage::
 fraction, area and local pressure (:func:`friction_model.coupling.contact_from_pipeline`) and,
 with deflection angles, the lever arm e(phi) of Eq. 5.21 (:func:`~friction_model.coupling.
 fit_lever_arm`); side-view results give the deflection time series of element 0. A
-``meta.json`` in the folder (or its parent) supplies the block, pressure, velocity and sliding
+``meta.json`` in the folder (or its parent), else the metadata ``tir-contact analyze`` recorded
+in ``summary.json``, supplies the block, pressure, velocity and sliding
 direction; the options override it. ``--characteristic`` is a steady table or the
 evaluation's ``steady_characteristic.csv`` (mu(v), fitted with ``--law``; ``auto`` picks the
 law with the lowest AICc). ``--transient`` takes transient tables (``time_s, velocity_mps,
@@ -192,12 +193,17 @@ def _footage_folders(paths: list[str]) -> list[Path]:
 
 
 def _meta(folder: Path) -> dict[str, Any]:
-    for candidate in (folder / "meta.json", folder.parent / "meta.json"):
+    """The footage metadata: ``meta.json`` beside the results, else the ``meta`` that
+    ``tir-contact analyze`` recorded in ``summary.json``."""
+    for candidate in (folder / "meta.json", folder.parent / "meta.json",
+                      folder / "summary.json"):
         if candidate.is_file():
             try:
                 doc = json.loads(candidate.read_text(encoding="utf-8"))
             except (OSError, json.JSONDecodeError) as exc:
                 raise ValueError(f"{candidate}: not valid JSON ({exc})") from None
+            if candidate.name == "summary.json" and isinstance(doc, dict):
+                doc = doc.get("meta")
             if isinstance(doc, dict):
                 return doc
     return {}
