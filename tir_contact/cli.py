@@ -8,9 +8,17 @@ import sys
 from collections.abc import Sequence
 
 from tir_contact import __version__
-from tir_contact.commands import analyze, calibrate, demo, evaluate, simulate, synth
+from tir_contact.commands import (
+    analyze,
+    calibrate,
+    demo,
+    discrepancy,
+    evaluate,
+    simulate,
+    synth,
+)
 
-_COMMANDS = (analyze, evaluate, calibrate, simulate, demo, synth)
+_COMMANDS = (analyze, evaluate, calibrate, simulate, discrepancy, demo, synth)
 
 
 def build_parser() -> argparse.ArgumentParser:

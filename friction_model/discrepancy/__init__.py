@@ -1,0 +1,105 @@
+"""The discrepancy workflow: find where model and measurement disagree, name the missing effect.
+
+Issue 6 of tir-contact. The thesis did this by hand twice (the velocity step of Fig. 5.7
+needed the friction relaxation of Eq. 5.12; the stick-slip frequency needed the frequency
+dependence of the rubber modulus, section 5.3.2); this package does it on data:
+
+1. calibrate the base model on training data, holding out whole conditions or runs;
+2. say where simulation and measurement disagree (:func:`where_analysis`,
+   :func:`residual_spectrum`);
+3. fit every candidate effect of the library (:func:`candidates`; add your own with
+   :func:`register_candidate`), score it on held-out data (RSS, AICc, BIC);
+4. name a winner only when the evidence is strong, else say ``ambiguous``, ``no missing
+   effect found`` or ``unexplained residual``;
+5. add the winner and repeat;
+6. show the gap shrink (:func:`write_result`).
+
+Public API
+----------
+:func:`run_discrepancy`, :class:`DiscrepancyResult`, :func:`write_result`,
+:class:`Problem` (protocol), :class:`SteadyProblem`, :class:`TransientProblem`
+(:class:`TransientRun`, :func:`read_transient_table`, :func:`run_from_table`,
+:func:`runs_from_elements`), :class:`StickSlipProblem` (:func:`stick_slip_case`,
+:func:`thesis_stick_slip_problem`), :class:`Candidate`,
+:class:`ParameterSpec`, :func:`register_candidate`, :func:`unregister_candidate`,
+:func:`candidates`, :func:`get_candidate`, :func:`where_analysis`,
+:func:`residual_spectrum`, scores :func:`aicc`, :func:`bic`, :func:`chi_square`,
+:func:`reduced_chi_square`, resampling :func:`group_folds`,
+:func:`block_bootstrap_weights`.
+
+Examples
+--------
+>>> from synthetic.measurements import make_steady_table
+>>> table = make_steady_table({"velocities_mps": [1, 2, 3, 5], "pressures_bar": [2.5],
+...     "temperatures_C": [-8, -4, -2], "humidities_pct": [40, 90],
+...     "salinities_pct": [0.0], "n_sipes": [0, 3]}, rng=3)
+>>> result = run_discrepancy(SteadyProblem(table), n_bootstrap=20, n_permutations=99)
+>>> result.verdict
+'no missing effect found'
+"""
+
+from friction_model.discrepancy._problem import (
+    Candidate,
+    ParameterSpec,
+    Problem,
+    candidates,
+    get_candidate,
+    register_candidate,
+    unregister_candidate,
+)
+from friction_model.discrepancy._report import write_result
+from friction_model.discrepancy._scoring import (
+    aicc,
+    bic,
+    block_bootstrap_weights,
+    chi_square,
+    group_folds,
+    reduced_chi_square,
+)
+from friction_model.discrepancy._where import residual_spectrum, where_analysis
+from friction_model.discrepancy._workflow import DiscrepancyResult, run_discrepancy
+from friction_model.discrepancy.steady import SteadyProblem
+from friction_model.discrepancy.stickslip import (
+    StickSlipProblem,
+    StickSlipResult,
+    stick_slip_case,
+    thesis_stick_slip_problem,
+)
+from friction_model.discrepancy.transient import (
+    TransientProblem,
+    TransientRun,
+    read_transient_table,
+    run_from_table,
+    runs_from_elements,
+)
+
+__all__ = [
+    "Candidate",
+    "DiscrepancyResult",
+    "ParameterSpec",
+    "Problem",
+    "SteadyProblem",
+    "StickSlipProblem",
+    "StickSlipResult",
+    "TransientProblem",
+    "TransientRun",
+    "aicc",
+    "bic",
+    "block_bootstrap_weights",
+    "candidates",
+    "chi_square",
+    "get_candidate",
+    "group_folds",
+    "read_transient_table",
+    "reduced_chi_square",
+    "register_candidate",
+    "residual_spectrum",
+    "run_discrepancy",
+    "run_from_table",
+    "runs_from_elements",
+    "stick_slip_case",
+    "thesis_stick_slip_problem",
+    "unregister_candidate",
+    "where_analysis",
+    "write_result",
+]

@@ -1,0 +1,738 @@
+"""The discrepancy workflow: find the disagreement, name the missing effect, show the gap shrink.
+
+Steps (issue 6): hold out whole groups (conditions or runs); say where model and data
+disagree (:mod:`._where`); fit every candidate (multi-start, :mod:`._fit`) and score it on
+held-out data (RSS, AICc, BIC); name a winner only when every criterion holds; add it and
+repeat; report the held-out gap before and after.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import contextlib
+import logging
+import math
+import multiprocessing
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from friction_model.discrepancy._fit import (
+    Evaluator,
+    ModelScores,
+    parameter_bounds,
+    score_model,
+    score_trends,
+)
+from friction_model.discrepancy._problem import (
+    Candidate,
+    Problem,
+    candidate_apply,
+    get_candidate,
+)
+from friction_model.discrepancy._problem import (
+    candidates as registered_candidates,
+)
+from friction_model.discrepancy._scoring import (
+    aicc,
+    bic,
+    block_bootstrap_weights,
+    group_folds,
+)
+from friction_model.discrepancy._where import residual_spectrum, where_analysis
+
+__all__ = [
+    "AICC_MARGIN",
+    "BIC_IMPROVEMENT",
+    "BOOTSTRAP_WIN_SHARE",
+    "CONFIDENCE_LEVEL",
+    "DiscrepancyResult",
+    "run_discrepancy",
+]
+
+logger = logging.getLogger(__name__)
+
+#: A winner must improve the held-out BIC of the current model by at least this much
+#: ("very strong" evidence on the Kass-Raftery scale).
+BIC_IMPROVEMENT = 10.0
+#: ... and beat the runner-up (and every generic trend) by at least this held-out dAICc.
+AICC_MARGIN = 2.0
+#: ... and win at least this share of the block-bootstrap resamples.
+BOOTSTRAP_WIN_SHARE = 0.8
+#: Level of the bootstrap confidence interval that must exclude the null.
+CONFIDENCE_LEVEL = 0.95
+
+
+@dataclass
+class DiscrepancyResult:
+    """Outcome of :func:`run_discrepancy`.
+
+    Attributes
+    ----------
+    verdict : str
+        One line: ``"missing effect: NAME"``, ``"missing effects: A, B"``,
+        ``"ambiguous: A or B (measure X to tell them apart)"``, ``"no missing effect
+        found"`` or ``"unexplained residual: structured residual against COVARIATE"``
+        (after named effects, the last two parts are joined with ``"; "``).
+    missing_effects : list of str
+        Names in the order found (empty when none).
+    gap_before, gap_after : float
+        Held-out RMSE of the base model and of the model with the missing effects,
+        weighted by 1/sigma^2 (:func:`weighted_rmse`; the plain RMSE is in ``gap``).
+    where : dict
+        Residual structure before and after (``before``, ``after``; ``spectrum_before``,
+        ``spectrum_after`` for transients), see :func:`where_analysis`.
+    candidates : list of dict
+        Every model scored in every round with its parameters, intervals and scores.
+    rounds : list of dict
+        The decision of each round and the criteria behind it.
+    gap : dict
+        Reduced chi-square before/after and the gap per condition (group).
+    fitted : dict
+        Parameters of the missing effects with their intervals.
+    """
+
+    kind: str
+    n: int
+    verdict: str
+    missing_effects: list[str]
+    gap_before: float
+    gap_after: float
+    where: dict
+    candidates: list[dict]
+    rounds: list[dict]
+    gap: dict
+    fitted: dict
+    not_revealable: list[str]
+    giveaway: str | None
+    y: np.ndarray = field(repr=False)
+    sigma: np.ndarray = field(repr=False)
+    groups: np.ndarray = field(repr=False)
+    covariates: pd.DataFrame = field(repr=False)
+    prediction_before: np.ndarray = field(repr=False)
+    prediction_after: np.ndarray = field(repr=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON content of ``result.json``."""
+        return {
+            "verdict": self.verdict,
+            "missing_effects": list(self.missing_effects),
+            "gap_before": self.gap_before,
+            "gap_after": self.gap_after,
+            "where": self.where,
+            "candidates": self.candidates,
+            "kind": self.kind,
+            "n": self.n,
+            "rounds": self.rounds,
+            "gap": self.gap,
+            "fitted": self.fitted,
+            "not_revealable": self.not_revealable,
+            "giveaway_covariate": self.giveaway,
+            "criteria": {
+                "bic_improvement": BIC_IMPROVEMENT,
+                "aicc_margin": AICC_MARGIN,
+                "bootstrap_win_share": BOOTSTRAP_WIN_SHARE,
+                "confidence_level": CONFIDENCE_LEVEL,
+            },
+        }
+
+
+def _resolve(problem: Problem, chosen: Sequence[str | Candidate] | None) -> tuple[list, list]:
+    """Candidates to fit and library effects this data cannot reveal."""
+    native = set(problem.effect_names)
+    if chosen is None:
+        pool = [c for c in registered_candidates() if problem.kind in c.kinds or c.name in native]
+    else:
+        pool = [c if isinstance(c, Candidate) else get_candidate(str(c)) for c in chosen]
+    usable, skipped = [], []
+    for c in pool:
+        if c.name in native or candidate_apply(c.name) is not None:
+            usable.append(c)
+        else:
+            skipped.append(c.name)
+    for c in registered_candidates():
+        if c.name not in native and candidate_apply(c.name) is None and c.name not in skipped:
+            skipped.append(c.name)
+    return usable, skipped
+
+
+def _check_problem(problem: Problem) -> None:
+    y = np.asarray(problem.y, float)
+    n = y.size
+    for name in ("sigma", "groups"):
+        arr = np.asarray(getattr(problem, name))
+        if arr.shape != (n,):
+            raise ValueError(f"problem.{name} must have shape ({n},), got {arr.shape}")
+    sigma = np.asarray(problem.sigma, float)
+    if not np.all(np.isfinite(y)):
+        raise ValueError("problem.y must be finite")
+    if not np.all(np.isfinite(sigma)) or np.any(sigma <= 0):
+        raise ValueError("problem.sigma must be finite and > 0")
+    if len(problem.covariates) != n:
+        raise ValueError(f"problem.covariates must have {n} rows, got {len(problem.covariates)}")
+    if np.unique(np.asarray(problem.groups)).size < 2:
+        raise ValueError("problem.groups must hold at least two groups (hold-out by group)")
+
+
+def _check_null(problem: Problem, cand: Candidate) -> None:
+    apply = candidate_apply(cand.name)
+    if apply is None or cand.name in problem.effect_names:
+        return
+    pred = np.asarray(problem.predict(problem.fit_base(np.ones(len(problem.y), bool), {}), {}))
+    back = np.asarray(apply(problem, pred.copy(), cand.null), float)
+    if not np.array_equal(back, pred):
+        raise ValueError(
+            f"candidate {cand.name!r} does not reduce to the model without it at its null "
+            f"{cand.null} (largest change {np.max(np.abs(back - pred)):.3g})"
+        )
+
+
+_THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def _worker_pool(n: int):
+    """Fresh (spawned) worker processes with one BLAS thread each.
+
+    The march multiplies (rows x cells) matrices; with a multi-threaded BLAS in each of
+    several processes the threads fight for the cores, which made two workers slower than
+    one. Spawned workers read the thread limits from the environment when they start.
+    """
+    saved = {k: os.environ.get(k) for k in _THREAD_VARS}
+    os.environ.update({k: "1" for k in _THREAD_VARS})
+    try:
+        ctx = multiprocessing.get_context("spawn")
+        with concurrent.futures.ProcessPoolExecutor(max_workers=n, mp_context=ctx) as ex:
+            yield ex
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def _score_candidate_job(
+    problem: Problem,
+    accepted: dict,
+    candidate: Candidate,
+    k: int,
+    folds: np.ndarray,
+    boot: np.ndarray,
+) -> ModelScores:
+    """Top-level (picklable) job: score one problem-native candidate."""
+    ev = Evaluator(problem, accepted, candidate, {})
+    return score_model(ev, candidate.name, "candidate", k, folds, boot)
+
+
+def _score_candidates(
+    problem: Problem,
+    accepted: dict,
+    pool: list[Candidate],
+    applies: dict,
+    folds: np.ndarray,
+    boot: np.ndarray,
+    workers: int,
+) -> list[ModelScores]:
+    k_acc = problem.n_base + sum(len(p) for p in accepted.values())
+    native_only = all(n in problem.effect_names for n in accepted)
+    jobs = [c for c in pool if c.name in problem.effect_names and native_only]
+    serial = [c for c in pool if c not in jobs]
+    results: dict[str, ModelScores] = {}
+
+    def run_serial(todo: list[Candidate]) -> None:
+        for c in todo:
+            ev = Evaluator(problem, accepted, c, applies)
+            results[c.name] = score_model(
+                ev, c.name, "candidate", k_acc + len(c.parameters), folds, boot
+            )
+
+    if workers > 1 and len(jobs) > 1:
+        with _worker_pool(min(workers, len(jobs))) as ex:
+            futures = {
+                c.name: ex.submit(
+                    _score_candidate_job,
+                    problem,
+                    accepted,
+                    c,
+                    k_acc + len(c.parameters),
+                    folds,
+                    boot,
+                )
+                for c in jobs
+            }
+            run_serial(serial)  # user candidates in this process meanwhile
+            for name, fut in futures.items():
+                results[name] = fut.result()
+    else:
+        run_serial(pool)
+    return [results[c.name] for c in pool]
+
+
+def _interval(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    tail = (1.0 - CONFIDENCE_LEVEL) / 2.0 * 100.0
+    return np.percentile(theta, tail, axis=0), np.percentile(theta, 100.0 - tail, axis=0)
+
+
+def _measure_text(a: Candidate, b: Candidate) -> str:
+    return (
+        f"measure {a.distinguishing_measurement}, and {b.distinguishing_measurement}, "
+        "to tell them apart"
+    )
+
+
+def _decide(
+    problem: Problem,
+    current: ModelScores,
+    fits: list[ModelScores],
+    trends: list[ModelScores],
+    pool: dict[str, Candidate],
+    round_no: int,
+) -> tuple[dict, list[dict]]:
+    """Score table of one round and its decision."""
+    n = len(problem.y)
+    y = np.asarray(problem.y, float)
+    models = [current, *fits, *trends]
+    crit = {m.name: (aicc(m.chi2_cv, m.k, n), bic(m.chi2_cv, m.k, n)) for m in models}
+    base_aicc, base_bic = crit[current.name]
+    # bootstrap: the model with the lowest in-sample BIC of each resample wins it
+    boot_bic = np.column_stack([m.boot_chi2 + m.k * math.log(n) for m in models])
+    winners = np.argmin(boot_bic, axis=1)
+    wins = {m.name: float(np.mean(winners == i)) for i, m in enumerate(models)}
+    rows = []
+    for m in models:
+        a, b = crit[m.name]
+        entry: dict[str, Any] = {
+            "round": round_no,
+            "name": m.name,
+            "kind": m.kind,
+            "k": m.k,
+            "rss_heldout": float(np.sum((y - m.cv_prediction) ** 2)),
+            "chi2_heldout": m.chi2_cv,
+            "chi2_fit": m.full.chi2,
+            "aicc": a,
+            "bic": b,
+            "delta_bic": base_bic - b,
+            "delta_aicc": base_aicc - a,
+            "bootstrap_wins": wins[m.name],
+            "parameters": [],
+        }
+        if m.kind == "candidate":
+            cand = pool[m.name]
+            lo, hi = _interval(m.boot_theta)
+            bounds = parameter_bounds(problem, cand)
+            for j, spec in enumerate(cand.parameters):
+                entry["parameters"].append(
+                    {
+                        "name": spec.name,
+                        "unit": spec.unit,
+                        "value": m.full.theta[j],
+                        "ci_lower": float(lo[j]),
+                        "ci_upper": float(hi[j]),
+                        "null": spec.null,
+                        "lower": bounds[j][0],
+                        "upper": bounds[j][1],
+                    }
+                )
+        if m.kind == "trend":
+            entry["covariate"] = m.extra["covariate"]
+        rows.append(entry)
+    phys = sorted([r for r in rows if r["kind"] == "candidate"], key=lambda r: r["aicc"])
+    trend_rows = sorted([r for r in rows if r["kind"] == "trend"], key=lambda r: r["aicc"])
+    best_trend = trend_rows[0] if trend_rows else None
+    structured = best_trend is not None and best_trend["delta_bic"] >= BIC_IMPROVEMENT
+
+    def unexplained() -> dict:
+        return {
+            "outcome": "unexplained",
+            "covariate": best_trend["covariate"],
+            "text": f"unexplained residual: structured residual against {best_trend['covariate']}",
+        }
+
+    def nothing() -> dict:
+        return (
+            unexplained()
+            if structured
+            else {
+                "outcome": "none",
+                "text": "no missing effect found",
+            }
+        )
+
+    if not phys:
+        return nothing(), rows
+    best = phys[0]
+    runner = phys[1] if len(phys) > 1 else None
+    criteria = {
+        "bic_improvement": best["delta_bic"] >= BIC_IMPROVEMENT,
+        "beats_runner_up": runner is None or runner["aicc"] - best["aicc"] >= AICC_MARGIN,
+        "beats_trends": best_trend is None or best_trend["aicc"] - best["aicc"] >= AICC_MARGIN,
+        "inside_bounds": all(
+            p["lower"] + 1e-3 * (p["upper"] - p["lower"])
+            < p["value"]
+            < p["upper"] - 1e-3 * (p["upper"] - p["lower"])
+            for p in best["parameters"]
+        ),
+        "interval_excludes_null": any(
+            not p["ci_lower"] <= p["null"] <= p["ci_upper"] for p in best["parameters"]
+        ),
+        "bootstrap_wins": best["bootstrap_wins"] >= BOOTSTRAP_WIN_SHARE,
+    }
+    best["criteria"] = criteria
+    decision: dict[str, Any] = {"best": best["name"], "criteria": criteria}
+    if not criteria["bic_improvement"]:
+        decision.update(nothing())
+    elif best_trend is not None and best_trend["aicc"] <= best["aicc"] - AICC_MARGIN:
+        decision.update(unexplained() if structured else nothing())
+    elif not criteria["beats_runner_up"]:
+        decision.update(
+            {
+                "outcome": "ambiguous",
+                "pair": [best["name"], runner["name"]],
+                "text": f"ambiguous: {best['name']} or {runner['name']} ("
+                f"{_measure_text(pool[best['name']], pool[runner['name']])})",
+            }
+        )
+    elif not criteria["beats_trends"]:
+        decision.update(unexplained() if structured else nothing())
+    elif not criteria["bootstrap_wins"]:
+        others = {r["name"]: r["bootstrap_wins"] for r in phys[1:]}
+        other = max(others, key=others.get) if others else None
+        if other is not None and best["bootstrap_wins"] + others[other] >= BOOTSTRAP_WIN_SHARE:
+            decision.update(
+                {
+                    "outcome": "ambiguous",
+                    "pair": [best["name"], other],
+                    "text": f"ambiguous: {best['name']} or {other} ("
+                    f"{_measure_text(pool[best['name']], pool[other])})",
+                }
+            )
+        else:
+            decision.update(nothing())
+    elif not (criteria["inside_bounds"] and criteria["interval_excludes_null"]):
+        decision.update(nothing())
+    else:
+        decision.update({"outcome": "named", "text": f"missing effect: {best['name']}"})
+    return decision, rows
+
+
+def weighted_rmse(y: np.ndarray, prediction: np.ndarray, sigma: np.ndarray) -> float:
+    """RMSE with the weights of the fit, in units of y: ``sqrt(sum(r^2/s^2) / sum(1/s^2))``.
+
+    Equals the plain RMSE when sigma is the same for every row; with relative noise it
+    keeps the rows with the largest values (and largest scatter) from swamping it.
+    """
+    w = 1.0 / np.asarray(sigma, float) ** 2
+    r = np.asarray(y, float) - np.asarray(prediction, float)
+    return float(np.sqrt(np.sum(w * r * r) / np.sum(w)))
+
+
+def _condition_labels(covariates: pd.DataFrame, groups: np.ndarray) -> dict:
+    labels = {}
+    for g in np.unique(groups):
+        sub = covariates[groups == g]
+        const = {c: sub[c].iloc[0] for c in sub.columns if sub[c].nunique() == 1}
+        labels[g] = ", ".join(
+            f"{c}={v:g}" if isinstance(v, int | float | np.number) else f"{c}={v}"
+            for c, v in const.items()
+        ) or str(g)
+    return labels
+
+
+def _gap(problem: Problem, before: np.ndarray, after: np.ndarray) -> dict:
+    y = np.asarray(problem.y, float)
+    sigma = np.asarray(problem.sigma, float)
+    groups = np.asarray(problem.groups)
+    labels = _condition_labels(problem.covariates, groups)
+    per = []
+    for g in np.unique(groups):
+        sel = groups == g
+        rb = (y[sel] - before[sel]) / sigma[sel]
+        ra = (y[sel] - after[sel]) / sigma[sel]
+        per.append(
+            {
+                "group": g.item() if isinstance(g, np.generic) else g,
+                "condition": labels[g],
+                "n": int(sel.sum()),
+                "rmse_before": float(np.sqrt(np.mean((y[sel] - before[sel]) ** 2))),
+                "rmse_after": float(np.sqrt(np.mean((y[sel] - after[sel]) ** 2))),
+                "reduced_chi2_before": float(np.mean(rb * rb)),
+                "reduced_chi2_after": float(np.mean(ra * ra)),
+            }
+        )
+    rb = (y - before) / sigma
+    ra = (y - after) / sigma
+    return {
+        "measure": "held-out RMSE weighted by 1/sigma^2, in units of the observation",
+        "rmse_unweighted_before": float(np.sqrt(np.mean((y - before) ** 2))),
+        "rmse_unweighted_after": float(np.sqrt(np.mean((y - after) ** 2))),
+        "reduced_chi2_before": float(np.mean(rb * rb)),
+        "reduced_chi2_after": float(np.mean(ra * ra)),
+        "per_condition": per,
+    }
+
+
+def _blank_fitted(accepted: dict, pool: dict[str, Candidate]) -> dict:
+    return {
+        n: {"round": 0, "parameters": [{"name": p.name} for p in pool[n].parameters]}
+        for n in accepted
+    }
+
+
+def _backfit(
+    problem: Problem,
+    accepted: dict,
+    fitted: dict,
+    pool: dict[str, Candidate],
+    applies: dict,
+    folds: np.ndarray,
+    boot: np.ndarray,
+    last: str,
+    sweeps: int = 2,
+) -> tuple[dict, dict, np.ndarray]:
+    """Refit each accepted effect with the others fixed (back-fitting), a few sweeps.
+
+    An effect named first absorbs part of the effects named after it; refitting each in
+    turn with the others at their current values removes that bias. The held-out
+    prediction after it is that of the last effect refitted per fold, the others fixed.
+    """
+    accepted = dict(accepted)
+    fitted = {k: dict(v) for k, v in fitted.items()}
+    order = [n for n in accepted if n != last] + [last]
+    cv = None
+    for _ in range(sweeps):
+        for name in order:
+            others = {n: p for n, p in accepted.items() if n != name}
+            ev = Evaluator(problem, others, pool[name], applies)
+            is_last = name == last
+            k = problem.n_base + sum(len(p) for p in accepted.values())
+            scores = score_model(ev, name, "candidate", k, folds, boot[:0])
+            accepted = {**others, name: scores.full.theta}
+            accepted = {n: accepted[n] for n in order if n in accepted}
+            for j, p in enumerate(fitted[name]["parameters"]):
+                p["value"] = scores.full.theta[j]
+                p["refit_with_others"] = True
+            if is_last:
+                cv = scores.cv_prediction
+    return accepted, fitted, cv
+
+
+def run_discrepancy(
+    problem: Problem,
+    *,
+    candidates: Sequence[str | Candidate] | None = None,
+    max_effects: int = 2,
+    n_bootstrap: int = 100,
+    n_folds: int = 5,
+    n_permutations: int = 999,
+    workers: int = 1,
+    seed: int | None = 0,
+) -> DiscrepancyResult:
+    """Find where the model disagrees with the data, name the missing effect(s), close the gap.
+
+    Parameters
+    ----------
+    problem : Problem
+        Data and base model (:class:`~friction_model.discrepancy.SteadyProblem`, the
+        transient problem, or any object that follows the :class:`Problem` protocol).
+    candidates : sequence of str or Candidate, optional
+        Candidates to try; by default every registered candidate the problem can evaluate
+        (its ``effect_names`` and user candidates with ``apply`` for its kind).
+    max_effects : int
+        Most effects added one after the other (step 5).
+    n_bootstrap : int
+        Block-bootstrap resamples (groups drawn with replacement).
+    n_folds : int
+        Hold-out folds; whole groups go to one fold.
+    n_permutations : int
+        Permutations for the p-values of the where-analysis.
+    workers : int
+        Processes for fitting the candidates of a round in parallel (1 = serial).
+    seed : int or None
+        Seed of folds, resamples and permutations.
+
+    Returns
+    -------
+    DiscrepancyResult
+
+    Notes
+    -----
+    Every score is held out: each model is refitted with each fold left out and predicts
+    that fold; RSS, chi-square, AICc and BIC use those predictions (k = base parameters
+    plus effect parameters). A candidate is named only when it improves the BIC of the
+    current model by >= 10, beats the runner-up and every generic trend model by dAICc
+    >= 2, its fitted parameters lie inside their bounds with a 95 % block-bootstrap
+    interval excluding the null, and it has the lowest BIC in >= 80 % of the resamples.
+    The named effect is then held fixed at its fitted value and the search repeats.
+    """
+    _check_problem(problem)
+    if int(max_effects) != max_effects or max_effects < 0:
+        raise ValueError(f"max_effects must be an integer >= 0, got {max_effects!r}")
+    if int(n_bootstrap) != n_bootstrap or n_bootstrap < 10:
+        raise ValueError(f"n_bootstrap must be an integer >= 10, got {n_bootstrap!r}")
+    if int(workers) != workers or workers < 1:
+        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    pool_list, skipped = _resolve(problem, candidates)
+    for cand in pool_list:
+        _check_null(problem, cand)
+    pool = {c.name: c for c in pool_list}
+    applies = {c.name: candidate_apply(c.name) for c in pool_list if candidate_apply(c.name)}
+    gen = np.random.default_rng(seed)
+    groups = np.asarray(problem.groups)
+    folds = group_folds(groups, n_folds, gen)
+    boot = block_bootstrap_weights(groups, int(n_bootstrap), gen)
+    perm_seed = int(gen.integers(2**31))
+    y = np.asarray(problem.y, float)
+    sigma = np.asarray(problem.sigma, float)
+
+    accepted: dict[str, tuple[float, ...]] = {}
+    fitted: dict[str, dict] = {}
+
+    def current_scores() -> ModelScores:
+        ev = Evaluator(problem, accepted, None, applies)
+        k = problem.n_base + sum(len(p) for p in accepted.values())
+        label = "base model" if not accepted else "base + " + " + ".join(accepted)
+        return score_model(ev, label, "current", k, folds, boot, keep_predictions=True)
+
+    current = current_scores()
+    before = current.cv_prediction
+    after = before
+    rounds: list[dict] = []
+    table: list[dict] = []
+    final: dict | None = None
+    pending: tuple | None = None  # state before a look-ahead on an ambiguous pair
+    pending_decision: dict | None = None
+    round_no = 0
+    while True:
+        round_no += 1
+        remaining = [c for c in pool_list if c.name not in accepted]
+        if len(accepted) >= max_effects:
+            remaining = []
+        fits = _score_candidates(problem, accepted, remaining, applies, folds, boot, workers)
+        trends = score_trends(problem, current, folds, boot)
+        decision, rows = _decide(problem, current, fits, trends, pool, round_no)
+        if (
+            pending is not None
+            and decision["outcome"] != "named"
+            and decision.get("criteria", {}).get("bic_improvement", False)
+        ):
+            # look-ahead: the tentative effect was fitted alone and absorbed part of the
+            # second; refit both together (back-fitting) and score the round again
+            trial = {**accepted, decision["best"]: (0.0,) * len(pool[decision["best"]].null)}
+            trial[decision["best"]] = next(f for f in fits if f.name == decision["best"]).full.theta
+            refit, _, _ = _backfit(
+                problem,
+                trial,
+                _blank_fitted(trial, pool),
+                pool,
+                applies,
+                folds,
+                boot,
+                decision["best"],
+            )
+            accepted = {n: refit[n] for n in accepted}
+            current = current_scores()
+            fits = _score_candidates(problem, accepted, remaining, applies, folds, boot, workers)
+            trends = score_trends(problem, current, folds, boot)
+            decision, rows = _decide(problem, current, fits, trends, pool, round_no)
+            decision["refit_before_scoring"] = {n: list(p) for n, p in accepted.items()}
+        decision["round"] = round_no
+        decision["current_model"] = current.name
+        rounds.append(decision)
+        table.extend(rows)
+        logger.info("round %d: %s", round_no, decision["text"])
+        # two effects at once: the best candidate improves the fit strongly but a
+        # runner-up or a generic trend competes with it, because neither single effect
+        # explains both. Add the best tentatively; keep it only if the next round names
+        # a further effect with every criterion met.
+        tentative = (
+            decision["outcome"] in ("ambiguous", "unexplained")
+            and decision.get("criteria", {}).get("bic_improvement", False)
+            and len(accepted) + 2 <= max_effects
+            and pending is None
+        )
+        if decision["outcome"] != "named" and not tentative:
+            if pending is not None:
+                # the look-ahead did not name the other of the pair: undo it
+                accepted, fitted, after, current, rounds_kept = pending
+                rounds = rounds_kept
+                final = pending_decision
+                final["look_ahead_result"] = decision["text"]
+                final["look_ahead_criteria"] = decision.get("criteria")
+            else:
+                final = decision
+            break
+        name = decision["best"]
+        winner = next(f for f in fits if f.name == name)
+        row = next(r for r in rows if r["name"] == name)
+        if tentative:
+            # two candidates explain the data about equally well: both may be missing.
+            # Add the better one and see whether the next round names the other.
+            pending = (dict(accepted), dict(fitted), after, current, list(rounds))
+            pending_decision = decision
+            decision["look_ahead"] = f"added {name} to see whether a second effect is missing"
+        else:
+            pending = None
+        accepted[name] = winner.full.theta
+        fitted[name] = {"round": round_no, "parameters": row["parameters"]}
+        after = winner.cv_prediction
+        if len(accepted) > 1 and not tentative:
+            accepted, fitted, after = _backfit(
+                problem, accepted, fitted, pool, applies, folds, boot, name
+            )
+        current = current_scores()
+
+    if pending is not None and final is None:  # pragma: no cover - loop always sets final
+        final = pending_decision
+    names = list(accepted)
+    if names:
+        head = ("missing effect: " if len(names) == 1 else "missing effects: ") + ", ".join(names)
+        verdict = head if final["outcome"] == "none" else f"{head}; {final['text']}"
+    else:
+        verdict = final["text"]
+    r_before = (y - before) / sigma
+    r_after = (y - after) / sigma
+    where = {
+        "residual": "held-out residual / sigma",
+        "before": where_analysis(
+            r_before, problem.covariates, n_permutations=n_permutations, rng=perm_seed
+        ),
+        "after": where_analysis(
+            r_after, problem.covariates, n_permutations=n_permutations, rng=perm_seed
+        ),
+    }
+    if problem.kind == "transient" and "time_s" in problem.covariates:
+        t = problem.covariates["time_s"].to_numpy(float)
+        where["spectrum_before"] = residual_spectrum(r_before, t, groups)
+        where["spectrum_after"] = residual_spectrum(r_after, t, groups)
+    if final["outcome"] == "unexplained":
+        giveaway = final["covariate"]
+    elif where["before"]["covariates"]:
+        giveaway = where["before"]["covariates"][0]["name"]
+    else:
+        giveaway = None
+    return DiscrepancyResult(
+        kind=problem.kind,
+        n=int(y.size),
+        verdict=verdict,
+        missing_effects=names,
+        gap_before=weighted_rmse(y, before, sigma),
+        gap_after=weighted_rmse(y, after, sigma),
+        where=where,
+        candidates=table,
+        rounds=rounds,
+        gap=_gap(problem, before, after),
+        fitted=fitted,
+        not_revealable=skipped,
+        giveaway=giveaway,
+        y=y,
+        sigma=sigma,
+        groups=groups,
+        covariates=problem.covariates,
+        prediction_before=before,
+        prediction_after=after,
+    )

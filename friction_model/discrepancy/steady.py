@@ -1,0 +1,358 @@
+"""Discrepancy problem for a steady friction characteristic table.
+
+:class:`SteadyProblem` couples a steady table (``docs/formats.md``, "Steady table": one row
+per condition with ``mu`` and ``mu_std``) with the dry/wet model of section 4.5.1
+(:func:`friction_model.drywet.friction_table`) so that
+:func:`~friction_model.discrepancy.run_discrepancy` can name the effect it lacks.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import math
+from collections import OrderedDict
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+from scipy.interpolate import CubicSpline
+
+from friction_model.discrepancy._problem import get_candidate
+from friction_model.discrepancy._steady_curves import CONDITION_COLUMNS, steady_mu
+from friction_model.drywet import DryWetParameters
+from friction_model.effects import DRY_WET_EFFECTS, Effects
+from friction_model.water_layer import freezing_point_depression_K
+
+__all__ = ["GROUP_COLUMNS", "MIN_RELATIVE_SIGMA", "SteadyProblem"]
+
+logger = logging.getLogger(__name__)
+
+#: A hold-out group is one condition of the rig: a whole velocity sweep at fixed pressure,
+#: temperature, humidity, salinity and specimen.
+GROUP_COLUMNS: tuple[str, ...] = (
+    "pressure_bar",
+    "temperature_C",
+    "humidity_pct",
+    "salinity_pct",
+    "n_sipes",
+)
+#: Floor of the relative standard deviation of mu: 0.1 %, the accuracy of the interpolated
+#: candidate curves (tested to < 1e-3 relative), so that noise-free tables stay usable.
+MIN_RELATIVE_SIGMA = 1e-3
+
+# knots of the strength grid per effect: (number, spacing); tested in
+# tests/test_discrepancy_steady.py to interpolate within 1e-3 of mu (relative)
+_KNOTS = {
+    "humidity_water_layer": (16, "linear"),  # mu is almost linear in the bound layer
+    "salinity_melting_point": (30, "chebyshev"),  # steep where the melting point nears T
+    "ice_preheating": (16, "linear"),
+    "viscous_shear": (32, "square"),  # strongest curvature near 0
+}
+# margin to the melting point (K) and to the critical film (share) of the bounds
+_MELT_MARGIN_K = 0.1
+_FILM_SHARE = 0.97
+_CACHE: OrderedDict = OrderedDict()
+_CACHE_SIZE = 64
+
+
+def _knots(name: str, upper: float) -> np.ndarray:
+    n, spacing = _KNOTS[name]
+    u = np.linspace(0.0, 1.0, n)
+    if spacing == "chebyshev":
+        u = 0.5 * (1.0 - np.cos(np.pi * u))
+    elif spacing == "square":
+        u = u * u
+    return upper * u
+
+
+def _require_columns(table: pd.DataFrame, columns: tuple[str, ...]) -> None:
+    missing = [c for c in columns if c not in table]
+    if missing:
+        raise ValueError(
+            f"steady table is missing column(s) {missing}; expected the steady-table columns "
+            f"{[*CONDITION_COLUMNS, 'n_sipes', 'mu', 'mu_std']} (docs/formats.md)"
+        )
+
+
+class SteadyProblem:
+    """A steady characteristic table against the dry/wet model with ``Effects.none()``.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Steady table: ``velocity_mps``, ``pressure_bar``, ``temperature_C``,
+        ``humidity_pct``, ``salinity_pct``, ``n_sipes``, ``mu`` and optionally ``mu_std``
+        (standard error of each mu). Any further numeric column (e.g. ``time_s``, when the
+        rows were measured one after the other) becomes a covariate of the where-analysis.
+    params : DryWetParameters, optional
+        Calibrated model (e.g. from a parameter file); the calibrated defaults when omitted.
+        Its effect strengths are replaced by ``Effects.none()``: the base model.
+    sigma : {"pooled", "rows"}
+        ``"pooled"`` (default): sigma = r * mu with r the root-mean-square of
+        ``mu_std / mu`` over the table, because the rig's scatter is relative and each
+        mu_std, from 10 repeats, itself scatters by about 24 %; ``"rows"``: mu_std as given.
+        Without ``mu_std``, r is the relative RMS residual of the base model (which can only
+        hide an effect, never invent one). r is at least :data:`MIN_RELATIVE_SIGMA`.
+
+    Notes
+    -----
+    Base (nuisance) parameter: one factor on mu (``n_base = 1``), fitted in closed form by
+    weighted least squares. It stands for the overall level that a new ice batch or
+    rubber run-in shifts (``mu_dry`` and the real-contact law act almost as a factor), and
+    it is identifiable: every candidate changes mu differently across conditions, none as
+    one factor. Other model parameters (``boundary_shear_Pa``, ``critical_film_m``) keep
+    their calibrated values: each trades off with a candidate (tau_b with the viscous
+    shear and the water layer, h_c with the humidity layer), so fitting them would make
+    the candidates unidentifiable.
+
+    Candidates: the four dry/wet effects of :data:`friction_model.effects.DRY_WET_EFFECTS`,
+    each with one parameter, its strength (null 0). ``friction_relaxation`` and
+    ``frequency_dependent_modulus`` leave steady states exactly unchanged, so a steady
+    table cannot reveal them; they are not in :attr:`effect_names`.
+
+    Speed: mu of each candidate is computed exactly on a grid of strengths (one vectorised
+    march per candidate) and interpolated with a cubic spline in between, within 1e-3 of
+    mu (relative); single combinations (the current model) are computed exactly.
+
+    Examples
+    --------
+    >>> from synthetic.measurements import make_steady_table
+    >>> table = make_steady_table({"velocities_mps": [1.0, 3.0], "pressures_bar": [2.5],
+    ...     "temperatures_C": [-8.0, -2.0], "humidities_pct": [40.0, 90.0],
+    ...     "salinities_pct": [0.0], "n_sipes": [0]}, rng=1)
+    >>> problem = SteadyProblem(table)
+    >>> problem.n_base, len(np.unique(problem.groups)), problem.effect_names[0]
+    (1, 4, 'humidity_water_layer')
+    """
+
+    kind = "steady"
+    n_base = 1
+    effect_names: tuple[str, ...] = DRY_WET_EFFECTS
+
+    def __init__(
+        self,
+        table: pd.DataFrame,
+        params: DryWetParameters | None = None,
+        *,
+        sigma: str = "pooled",
+    ) -> None:
+        if not isinstance(table, pd.DataFrame):
+            raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
+        _require_columns(table, (*CONDITION_COLUMNS, "n_sipes", "mu"))
+        if sigma not in ("pooled", "rows"):
+            raise ValueError(f"sigma must be 'pooled' or 'rows', got {sigma!r}")
+        if len(table) < 4:
+            raise ValueError(f"steady table needs at least 4 rows, got {len(table)}")
+        table = table.reset_index(drop=True)
+        numeric = {}
+        for col in (*CONDITION_COLUMNS, "n_sipes", "mu"):
+            values = pd.to_numeric(table[col], errors="coerce").to_numpy(float)
+            if not np.all(np.isfinite(values)):
+                bad = int(np.flatnonzero(~np.isfinite(values))[0])
+                raise ValueError(f"steady table column {col!r}: row {bad} is not a finite number")
+            numeric[col] = values
+        if np.any(numeric["mu"] <= 0):
+            raise ValueError("steady table column 'mu' must be > 0")
+        if np.any(numeric["n_sipes"] != np.round(numeric["n_sipes"])) or np.any(
+            numeric["n_sipes"] < 0
+        ):
+            raise ValueError("steady table column 'n_sipes' must hold integers >= 0")
+        self.params = (params or DryWetParameters()).with_(effects=Effects.none())
+        self.conditions = pd.DataFrame({c: numeric[c] for c in CONDITION_COLUMNS})
+        self.conditions["n_sipes"] = numeric["n_sipes"].astype(int)
+        self.y = numeric["mu"]
+        extra = [
+            c
+            for c in table.columns
+            if c not in (*CONDITION_COLUMNS, "n_sipes", "mu", "mu_std")
+            and pd.api.types.is_numeric_dtype(table[c])
+        ]
+        self.covariates = pd.concat(
+            [self.conditions, table[extra].astype(float)], axis=1
+        ).reset_index(drop=True)
+        keys = self.conditions[list(GROUP_COLUMNS)].round(9)
+        self.groups = keys.groupby(list(GROUP_COLUMNS), sort=False).ngroup().to_numpy()
+        self._fingerprint = hashlib.sha1(
+            self.conditions.to_numpy(float).tobytes() + repr(self.params).encode()
+        ).hexdigest()
+        self._exact: OrderedDict = OrderedDict()
+        self._curves: dict = {}
+        self._seen: dict = {}
+        self._last: tuple | None = None
+        self._bounds = {name: self._upper_bound(name) for name in self.effect_names}
+        self.sigma = self._sigma(table, sigma)
+
+    # -- noise ---------------------------------------------------------------------------
+    def _sigma(self, table: pd.DataFrame, mode: str) -> np.ndarray:
+        if "mu_std" in table:
+            std = pd.to_numeric(table["mu_std"], errors="coerce").to_numpy(float)
+            if not np.all(np.isfinite(std)) or np.any(std < 0):
+                raise ValueError("steady table column 'mu_std' must be finite and >= 0")
+            if mode == "rows":
+                return np.maximum(std, MIN_RELATIVE_SIGMA * self.y)
+            rel = math.sqrt(float(np.mean((std / self.y) ** 2)))
+        else:
+            base = self._mu({})
+            scale = float(self.y @ base / (base @ base))
+            rel = math.sqrt(float(np.mean((self.y / (scale * base) - 1.0) ** 2)))
+        return max(rel, MIN_RELATIVE_SIGMA) * self.y
+
+    # -- bounds --------------------------------------------------------------------------
+    def _upper_bound(self, name: str) -> float:
+        upper = get_candidate(name).parameters[0].upper
+        p = self.params
+        c = self.conditions
+        if name == "salinity_melting_point":
+            sal = c["salinity_pct"].to_numpy()
+            allowed = -c["temperature_C"].to_numpy() - _MELT_MARGIN_K  # depression limit, K
+            rows = sal > 0
+            if rows.any() and p.salt_enrichment > 0:
+                lo, hi = 0.0, upper
+                for _ in range(60):  # bisection on the strength
+                    mid = 0.5 * (lo + hi)
+                    dep = freezing_point_depression_K(sal[rows], enrichment=p.salt_enrichment * mid)
+                    lo, hi = (mid, hi) if np.all(dep <= allowed[rows]) else (lo, mid)
+                upper = min(upper, lo)
+        elif name == "humidity_water_layer":
+            rh = c["humidity_pct"].to_numpy()
+            d_t = np.maximum(p.ice.melting_point_C - c["temperature_C"].to_numpy(), 0.05)
+            layer = p.qll_thickness_m * d_t ** (-1.0 / 3.0)
+            rows = rh > 0
+            if rows.any() and p.humidity_gain > 0:
+                s_max = (
+                    (_FILM_SHARE * p.critical_film_m / layer[rows] - 1.0)
+                    * 100.0
+                    / (p.humidity_gain * rh[rows])
+                )
+                upper = min(upper, float(np.min(s_max)))
+        if upper <= 0:
+            raise ValueError(
+                f"the table leaves no room for {name}: at its conditions any strength > 0 "
+                "takes the model outside its validity"
+            )
+        return float(upper)
+
+    def parameter_bounds(self, name: str) -> list[tuple[float, float]] | None:
+        """Bounds of ``name``'s strength that this table allows.
+
+        ``salinity_melting_point``: the melting point stays at least 0.1 K above every
+        temperature of the table. ``humidity_water_layer``: the bound layer stays below
+        97 % of the critical film ``h_c`` (beyond it the contact would be wet from the
+        leading edge, another regime). Others: the library bounds; None for a name that
+        is not one of :attr:`effect_names` (user candidates keep their own bounds).
+        """
+        if name not in self._bounds:
+            return None  # a user candidate: its own bounds
+        return [(0.0, self._bounds[name])]
+
+    # -- model ---------------------------------------------------------------------------
+    def _strengths(self, effects: Mapping[str, tuple[float, ...]]) -> dict[str, float]:
+        out = {}
+        for name, params in effects.items():
+            if name not in self.effect_names:
+                raise ValueError(
+                    f"unknown effect {name!r} for a steady table; effects: {self.effect_names}"
+                )
+            values = tuple(params)
+            if len(values) != 1:
+                raise ValueError(f"effect {name!r} takes one parameter (strength), got {values}")
+            s = float(values[0])
+            if s != 0.0:
+                out[name] = s
+        return out
+
+    def _exact_mu(self, strengths: dict[str, float]) -> np.ndarray:
+        key = tuple(sorted(strengths.items()))
+        if key not in self._exact:
+            params = self.params.with_(effects=Effects.none().with_(**strengths))
+            self._exact[key] = steady_mu(self.conditions, params)
+            if len(self._exact) > 256:
+                self._exact.popitem(last=False)
+        return self._exact[key]
+
+    def _curve(self, name: str, context: tuple) -> CubicSpline:
+        key = (name, context)
+        if key in self._curves:
+            return self._curves[key]
+        upper = self._bounds[name]
+        knots = _knots(name, upper)
+        cache_key = (self._fingerprint, key, tuple(knots))
+        if cache_key in _CACHE:
+            _CACHE.move_to_end(cache_key)
+            spline = _CACHE[cache_key]
+        else:
+            params = self.params.with_(effects=Effects.none().with_(**dict(context)))
+            values = steady_mu(self.conditions, params, vary=name, strengths=knots)
+            spline = CubicSpline(knots, values, axis=0)
+            _CACHE[cache_key] = spline
+            if len(_CACHE) > _CACHE_SIZE:
+                _CACHE.popitem(last=False)
+        self._curves[key] = spline
+        return spline
+
+    def _mu(self, strengths: dict[str, float]) -> np.ndarray:
+        key = tuple(sorted(strengths.items()))
+        if self._last is not None and self._last[0] == key:
+            return self._last[1]
+        mu = self._mu_uncached(strengths, key)
+        self._last = (key, mu)
+        return mu
+
+    def _mu_uncached(self, strengths: dict[str, float], key: tuple) -> np.ndarray:
+        if not strengths:
+            return self._exact_mu({})
+        if key in self._exact:
+            return self._exact[key]
+        # a curve for one of the effects with the others as context
+        for name in reversed(list(strengths)):
+            context = tuple(sorted((n, s) for n, s in strengths.items() if n != name))
+            s = strengths[name]
+            if (name, context) in self._curves and s <= self._bounds[name]:
+                return self._curves[(name, context)](s)
+        # a second value of the last effect in the same context: it is being fitted,
+        # build its curve once; a single combination is computed exactly
+        name = list(strengths)[-1]
+        s = strengths[name]
+        context = tuple(sorted((n, v) for n, v in strengths.items() if n != name))
+        seen = self._seen.setdefault((name, context), set())
+        seen.add(s)
+        if len(seen) > 1 and s <= self._bounds[name]:
+            return self._curve(name, context)(s)
+        return self._exact_mu(strengths)
+
+    def fit_base(
+        self,
+        train: np.ndarray,
+        effects: Mapping[str, tuple[float, ...]],
+        weights: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """Fit the factor on mu on the rows ``train`` with the effects fixed.
+
+        Parameters
+        ----------
+        train : (n,) bool ndarray
+            Rows to fit on.
+        effects : mapping of str to tuple
+            Effect name -> (strength,).
+        weights : (n,) ndarray, optional
+            Row weights (block-bootstrap counts); 1 for every train row when omitted.
+
+        Returns
+        -------
+        ndarray, shape (1,)
+            The factor ``c`` of ``mu = c mu_model`` (weighted least squares, closed form).
+        """
+        mu = self._mu(self._strengths(effects))
+        w = np.asarray(train, bool).astype(float)
+        if weights is not None:
+            w = w * np.asarray(weights, float)
+        ww = w / self.sigma**2
+        den = float(ww @ (mu * mu))
+        if den <= 0:
+            raise ValueError("fit_base needs at least one training row")
+        return np.array([float(ww @ (self.y * mu)) / den])
+
+    def predict(self, base: np.ndarray, effects: Mapping[str, tuple[float, ...]]) -> np.ndarray:
+        """mu of every row: ``base[0]`` times the dry/wet model with the given strengths."""
+        return float(np.asarray(base, float)[0]) * self._mu(self._strengths(effects))

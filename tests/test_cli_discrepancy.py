@@ -1,0 +1,58 @@
+"""``tir-contact discrepancy`` end to end on data with a hidden effect (truth: the generator)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from synthetic.effect_size import strength_for_effect_size
+from synthetic.measurements import make_steady_table, make_transient_table, write_table
+from tir_contact.cli import main
+
+GRID = {"velocities_mps": [1, 3, 5], "pressures_bar": [1, 2.5, 5],
+        "temperatures_C": [-6, -3, -1.5], "humidities_pct": [40, 90],
+        "salinities_pct": [0.0, 0.05], "n_sipes": [0, 3]}
+FAST = ["--bootstrap", "30", "--permutations", "99", "--max-effects", "1"]
+
+
+def test_steady_table_names_the_hidden_effect(tmp_path, capsys):
+    # effect size 3 x the 5 % noise: the issue's "must be found" regime
+    strength = strength_for_effect_size("humidity_water_layer", 3.0, noise=0.05, grid=GRID)
+    table = make_steady_table(GRID, effects={"humidity_water_layer": strength}, rng=4)
+    path = write_table(table, tmp_path / "steady.csv")
+    code = main(["discrepancy", "--steady", str(path), "--out", str(tmp_path / "d"), *FAST])
+    assert code == 0
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    assert line.startswith("missing effect: humidity_water_layer")
+    result = json.loads((tmp_path / "d" / "result.json").read_text())
+    assert result["missing_effects"] == ["humidity_water_layer"]
+    assert result["gap_after"] <= 0.5 * result["gap_before"]
+    # the issue's criterion: fitted parameter within 25 % of the truth, interval excludes 0
+    fitted = result["fitted"]["humidity_water_layer"]["parameters"][0]
+    assert fitted["value"] == pytest.approx(strength, rel=0.25)
+    assert fitted["ci_lower"] > 0
+    assert (tmp_path / "d" / "report.md").is_file()
+    assert list((tmp_path / "d").glob("*.png"))
+
+
+def test_transient_table_names_friction_relaxation(tmp_path, capsys):
+    table = make_transient_table(effects={"friction_relaxation": 1.0}, rng=2)
+    path = write_table(table, tmp_path / "step.csv")
+    code = main(["discrepancy", "--transient", str(path), "--out", str(tmp_path / "d"), *FAST])
+    assert code == 0
+    assert "missing effect: friction_relaxation" in capsys.readouterr().out
+
+
+def test_stick_slip_names_the_modulus(tmp_path, capsys):
+    code = main(["discrepancy", "--stick-slip", "1500,1111", "--out", str(tmp_path / "d")])
+    assert code == 0
+    assert capsys.readouterr().out.startswith("missing effect: frequency_dependent_modulus")
+
+
+def test_bad_input_is_one_line(tmp_path, capsys):
+    code = main(["discrepancy", "--steady", str(tmp_path / "nope.csv"), "--out",
+                 str(tmp_path / "d")])
+    assert code == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "nope.csv" in err[0]

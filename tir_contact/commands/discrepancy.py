@@ -1,0 +1,187 @@
+"""``tir-contact discrepancy``: where model and measurement disagree, and which effect is missing.
+
+Usage::
+
+    tir-contact discrepancy (--steady CSV | --transient CSV... | --elements PATH...
+                             | --stick-slip MEASURED_HZ,SIMULATED_HZ)
+        --out DIR [--params params.json] [--effects NAME,...] [--max-effects 2]
+        [--bootstrap 100] [--permutations 999] [--workers 1] [--seed 0]
+        [--velocity-step V1,V2 --step-time S] [--element 0] [--n-sipes 3]
+        [--pressure-bar 1.2]
+
+Inputs: a steady characteristic table (``velocity_mps, pressure_bar, temperature_C,
+humidity_pct, salinity_pct, n_sipes, mu[, mu_std]``), transient tables (``time_s,
+velocity_mps, angle_deg``), pipeline outputs (``elements.csv`` or an analyze result folder of
+side-view footage, with the commanded ``--velocity-step`` and ``--step-time``), or a measured
+and a simulated stick-slip frequency. ``--params`` (from ``tir-contact calibrate``) sets the
+real contact fraction of the dry/wet model from the measured contact. Writes ``result.json``,
+``report.md`` and PNG plots to DIR and prints the verdict in one line. Exit codes: 0 when the
+workflow ran (whatever the verdict), 1 when the data cannot be used, 2 for bad arguments.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from tir_contact.commands._types import positive_int, positive_number
+
+
+def _pair(text: str) -> tuple[float, float]:
+    parts = text.split(",")
+    try:
+        a, b = (float(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected two numbers 'A,B', got {text!r}") from None
+    return a, b
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """Register the ``discrepancy`` sub-command."""
+    p = subparsers.add_parser(
+        "discrepancy",
+        help="find where model and measurement disagree and name the missing effect",
+        description=(
+            "Calibrate the base model on training data, analyse residuals, fit the candidate "
+            "effects, score them on held-out data and name the missing effect (if any). "
+            "Writes result.json, report.md and PNG plots; prints the verdict."
+        ),
+    )
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--steady", type=Path, metavar="CSV", help="steady characteristic table")
+    src.add_argument("--transient", type=Path, nargs="+", metavar="CSV",
+                     help="transient tables (one run each)")
+    src.add_argument("--elements", type=Path, nargs="+", metavar="PATH",
+                     help="elements.csv or analyze result folders (side view)")
+    src.add_argument("--stick-slip", type=_pair, metavar="MEASURED_HZ,SIMULATED_HZ",
+                     help="measured and simulated stick-slip frequency, Hz")
+    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
+    p.add_argument("--params", type=Path, default=None, metavar="JSON",
+                   help="parameter file of tir-contact calibrate")
+    p.add_argument("--effects", default=None, metavar="NAME,...",
+                   help="candidate effects to try (default: all the data can reveal)")
+    p.add_argument("--max-effects", type=positive_int, default=2,
+                   help="effects to add one after the other (default 2)")
+    p.add_argument("--bootstrap", type=positive_int, default=100,
+                   help="block-bootstrap resamples (default 100)")
+    p.add_argument("--permutations", type=positive_int, default=999,
+                   help="permutations of the rank-correlation tests (default 999)")
+    p.add_argument("--workers", type=positive_int, default=1,
+                   help="processes fitting candidates in parallel (default 1)")
+    p.add_argument("--seed", type=int, default=0, help="random seed")
+    p.add_argument("--velocity-step", type=_pair, default=None, metavar="V1,V2",
+                   help="commanded velocities before/after the step, m/s (--elements)")
+    p.add_argument("--step-time", type=positive_number, default=None, metavar="S",
+                   help="time of the velocity step, s (--elements; transient: from the table)")
+    p.add_argument("--element", type=int, default=0, help="element of --elements (default 0)")
+    p.add_argument("--n-sipes", type=int, default=3, help="sipes of the block (transient)")
+    p.add_argument("--pressure-bar", type=positive_number, default=1.2,
+                   help="nominal pressure, bar (transient, default 1.2)")
+    p.set_defaults(func=run)
+    return p
+
+
+def _drywet_params(path: Path | None) -> Any:
+    """Dry/wet parameters with the measured real contact fraction of a parameter file."""
+    if path is None:
+        return None
+    from friction_model.drywet import DryWetParameters
+    from friction_model.params_file import read_parameters
+
+    doc = read_parameters(path)
+    contact = doc.get("contact") or {}
+    phi = contact.get("contact_fraction")
+    if phi is None:
+        return None
+    defaults = DryWetParameters()
+    p = contact.get("nominal_pressure_Pa") or defaults.contact_pressure_ref_Pa
+    return DryWetParameters(contact_fraction_ref=float(min(max(phi, 1e-3), 1.0)),
+                            contact_pressure_ref_Pa=float(p))
+
+
+def _elements_table(paths: list[Path]) -> Any:
+    import pandas as pd
+
+    frames = []
+    for path in paths:
+        file = path / "elements.csv" if path.is_dir() else path
+        if not file.is_file():
+            raise ValueError(f"{file}: no elements.csv (run tir-contact analyze first)")
+        frames.append(pd.read_csv(file))
+    return frames
+
+
+def _problem(args: argparse.Namespace) -> Any:
+    import pandas as pd
+
+    from friction_model.discrepancy import SteadyProblem, TransientProblem
+
+    if args.steady is not None:
+        if not args.steady.is_file():
+            raise ValueError(f"{args.steady}: does not exist")
+        return SteadyProblem(pd.read_csv(args.steady), params=_drywet_params(args.params))
+    if args.transient is not None:
+        from friction_model.discrepancy import read_transient_table
+
+        tables = [read_transient_table(p) for p in args.transient]
+        return TransientProblem.from_tables(
+            tables, labels=[p.stem for p in args.transient], n_sipes=args.n_sipes,
+            pressure_bar=args.pressure_bar, t_step_s=args.step_time)
+    if args.velocity_step is None or args.step_time is None:
+        raise ValueError("--elements needs --velocity-step V1,V2 and --step-time S")
+    tables = _elements_table(args.elements)
+    table = pd.concat(tables, ignore_index=True) if len(tables) == 1 else tables[0]
+    if len(tables) > 1:
+        raise ValueError("--elements takes one result (one run); pass transient tables "
+                         "for several runs")
+    v1, v2 = args.velocity_step
+    return TransientProblem.from_elements(
+        table, v1_mps=v1, v2_mps=v2, t_step_s=args.step_time, element=args.element,
+        n_sipes=args.n_sipes, pressure_bar=args.pressure_bar)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the workflow; returns the exit code."""
+    import json
+
+    from friction_model.discrepancy import run_discrepancy, write_result
+
+    try:
+        if args.stick_slip is not None:
+            from friction_model.discrepancy.stickslip import (
+                THESIS_SIGMA_HZ,
+                StickSlipProblem,
+                stick_slip_case,
+            )
+
+            measured, simulated = args.stick_slip
+            sigma = THESIS_SIGMA_HZ * measured / 1500.0
+            case = stick_slip_case(StickSlipProblem(measured, simulated, sigma_Hz=sigma))
+            args.out.mkdir(parents=True, exist_ok=True)
+            from tir_contact._outdir import write_json
+
+            data = case.to_dict()
+            if case.missing_effects:
+                data["verdict"] = "missing effect: " + ", ".join(case.missing_effects)
+            write_json(args.out / "result.json", data)
+            print(f"{data['verdict']} (stick-slip frequency gap {case.gap_before_Hz:.0f} Hz"
+                  f" -> {case.gap_after_Hz:.0f} Hz)")
+            return 0
+        problem = _problem(args)
+        names = args.effects.split(",") if args.effects else None
+        result = run_discrepancy(problem, candidates=names, max_effects=args.max_effects,
+                                 n_bootstrap=args.bootstrap, n_permutations=args.permutations,
+                                 workers=args.workers, seed=args.seed)
+    except (ValueError, OSError, KeyError) as exc:
+        print(f"tir-contact discrepancy: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 1
+    write_result(result, args.out)
+    gap = json.loads((args.out / "result.json").read_text())
+    before, after = gap.get("gap_before"), gap.get("gap_after")
+    tail = ""
+    if before is not None and after is not None:
+        tail = f" (held-out gap {before:.4g} -> {after:.4g})"
+    print(f"{result.verdict}{tail}")
+    return 0
