@@ -127,6 +127,14 @@ _STEADY_FRACTION = 0.3
 _RTOL, _ATOL = 1e-4, 1e-8
 #: Side view: image row of the ice surface line as a fraction of the image height.
 _SIDE_ICE_ROW = 0.75
+#: Fields of the velocity step and the friction relaxation and their defaults (left out of
+#: ``FootageSpec.to_dict`` at these values).
+_STEP_FIELDS = ("velocity_step_to_mps", "step_time_s", "friction_relaxation_s")
+_STEP_DEFAULTS: dict[str, Any] = {
+    "velocity_step_to_mps": None,
+    "step_time_s": None,
+    "friction_relaxation_s": 0.0,
+}
 
 
 # -- validation helpers --------------------------------------------------------------------
@@ -307,7 +315,8 @@ class FootageSpec:
     view : {"tir", "side"}
         Bottom view through the prism (TIR) or side view of the deformed elements.
     velocity_mps : float
-        Sliding velocity, m/s, in (0, 30].
+        Sliding velocity, m/s, in (0, 30]; with ``velocity_step_to_mps`` the velocity
+        before the step.
     n_frames : int
         Frames in the clip, in [1, 10^7].
     pressure_bar : float
@@ -365,10 +374,26 @@ class FootageSpec:
         edge, Fig. 5.11 a); 0 removes the band.
     block : BlockGeometry, optional
         Any block instead of ``preset``.
+    velocity_step_to_mps : float, optional
+        Velocity after an instantaneous step, m/s, in (0, 30] (Fig. 5.7): the sliding
+        velocity is ``velocity_mps`` before ``step_time_s`` and this value from it on. The
+        block position (fixed camera) or the ice (following camera) moves by the integral
+        of the velocity, the motion blur follows the velocity of each frame, and the rigid
+        model sees the step. Needs ``dynamics="simulated"``. None: constant velocity.
+    step_time_s : float, optional
+        Time of the velocity step on the clip's time axis (frame ``k`` at ``k / fps``), s,
+        in [0, ``duration_s``]; required with ``velocity_step_to_mps`` and only with it.
+    friction_relaxation_s : float
+        Time constant tau of the friction's lag behind its steady law (Eq. 5.12, as
+        :class:`friction_model.laws.RelaxedFriction`), s, in [0, 1]; 0 (the default) uses
+        the steady law. The model starts (``settle_s`` before frame 0) with mu at its
+        steady value.
 
     Notes
     -----
     Invalid values raise ``ValueError`` (``TypeError`` for a wrong type) naming the field.
+    Specs that leave the last three fields at their defaults render exactly as before they
+    existed (same bytes, same ``meta.json``: :meth:`to_dict` lists them only when set).
     """
 
     preset: str = "G3"
@@ -396,6 +421,9 @@ class FootageSpec:
     pressure_ref_MPa: float = 1.0
     edge_band_mm: float = 0.4
     block: BlockGeometry | None = None
+    velocity_step_to_mps: float | None = None
+    step_time_s: float | None = None
+    friction_relaxation_s: float = 0.0
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
@@ -452,6 +480,82 @@ class FootageSpec:
             _in_range("pressure_ref_MPa", self.pressure_ref_MPa, 0.0, 1e4, low_open=True),
         )
         put("edge_band_mm", _in_range("edge_band_mm", self.edge_band_mm, 0.0, 5.0, unit="mm"))
+        self._check_step(put)
+
+    def _check_step(self, put: Any) -> None:
+        """Validate the velocity step and the friction relaxation (Eq. 5.12) fields."""
+        put(
+            "friction_relaxation_s",
+            _in_range("friction_relaxation_s", self.friction_relaxation_s, 0.0, 1.0, unit="s"),
+        )
+        if self.velocity_step_to_mps is None:
+            if self.step_time_s is not None:
+                raise ValueError(
+                    "step_time_s needs velocity_step_to_mps (the velocity after the step), got "
+                    f"step_time_s={self.step_time_s!r} with velocity_step_to_mps=None"
+                )
+            return
+        put(
+            "velocity_step_to_mps",
+            _in_range(
+                "velocity_step_to_mps",
+                self.velocity_step_to_mps,
+                0.0,
+                30.0,
+                low_open=True,
+                unit="m/s",
+            ),
+        )
+        if self.step_time_s is None:
+            raise ValueError(
+                "step_time_s must be given with velocity_step_to_mps (the time of the step on "
+                "the clip's time axis, s), got step_time_s=None"
+            )
+        put(
+            "step_time_s",
+            _in_range("step_time_s", self.step_time_s, 0.0, self.duration_s, unit="s"),
+        )
+        if self.dynamics != "simulated":
+            raise ValueError(
+                "dynamics must be 'simulated' with a velocity step (a steady state has no "
+                f"step), got dynamics={self.dynamics!r}"
+            )
+
+    @property
+    def has_step(self) -> bool:
+        """True when the clip has a velocity step (``velocity_step_to_mps`` given)."""
+        return self.velocity_step_to_mps is not None
+
+    def velocity_at(self, time_s: float) -> float:
+        """Sliding velocity at clip time ``time_s`` (frame k at k / fps), m/s.
+
+        Examples
+        --------
+        >>> spec = FootageSpec(velocity_step_to_mps=5.0, step_time_s=0.05)
+        >>> spec.velocity_at(0.0), spec.velocity_at(0.05)
+        (1.0, 5.0)
+        """
+        if self.velocity_step_to_mps is None or time_s < float(self.step_time_s):
+            return self.velocity_mps
+        return float(self.velocity_step_to_mps)
+
+    def travel_since_mm(self, t0_s: float, t1_s: float) -> float:
+        """Distance slid from clip time ``t0_s`` to ``t1_s`` (the integral of the velocity), mm.
+
+        Examples
+        --------
+        >>> spec = FootageSpec(velocity_step_to_mps=5.0, step_time_s=0.05)
+        >>> round(spec.travel_since_mm(0.0, 0.06), 9)  # 50 mm at 1 m/s, then 50 mm at 5 m/s
+        100.0
+        """
+        if self.velocity_step_to_mps is None:
+            return self.velocity_mps * 1e3 * (t1_s - t0_s)
+        return 1e3 * (self._distance_m(t1_s) - self._distance_m(t0_s))
+
+    def _distance_m(self, t: float) -> float:
+        """Distance slid since clip time 0 (negative before it), m."""
+        ts, v1, v2 = float(self.step_time_s), self.velocity_mps, float(self.velocity_step_to_mps)
+        return v1 * t if t < ts else v1 * ts + v2 * (t - ts)
 
     @property
     def geometry(self) -> BlockGeometry:
@@ -464,8 +568,16 @@ class FootageSpec:
         return (self.n_frames - 1) / self.camera.fps
 
     def to_dict(self) -> dict[str, Any]:
-        """The spec as plain JSON-compatible values (nested camera and block included)."""
-        return _jsonable(dataclasses.asdict(self))
+        """The spec as plain JSON-compatible values (nested camera and block included).
+
+        The velocity step and relaxation fields appear only when set (a spec without them
+        gives the same dict, and ``meta.json``, as before they existed).
+        """
+        out = _jsonable(dataclasses.asdict(self))
+        for name in _STEP_FIELDS:
+            if out[name] == _STEP_DEFAULTS[name]:
+                del out[name]
+        return out
 
 
 def _jsonable(obj: Any) -> Any:
@@ -505,6 +617,9 @@ class _ModelInput:
     dynamics: str
     climate: tuple[float, ...]
     timing: tuple[float, ...]
+    #: (velocity after the step, m/s; step time on the model's axis, s) or ().
+    step: tuple[float, ...] = ()
+    relaxation_s: float = 0.0
 
     @classmethod
     def of(cls, spec: FootageSpec) -> _ModelInput:
@@ -520,6 +635,10 @@ class _ModelInput:
             if spec.friction == "drywet"
             else (),
             timing=(spec.camera.fps, float(spec.n_frames)) if spec.dynamics == "simulated" else (),
+            step=(float(spec.velocity_step_to_mps), spec.settle_s + float(spec.step_time_s))
+            if spec.has_step
+            else (),
+            relaxation_s=spec.friction_relaxation_s,
         )
 
 
@@ -527,8 +646,9 @@ class _ModelInput:
 def _simulate(spec: _ModelInput) -> _ModelStates:
     """Integrate the rigid block model once per distinct model input (cached)."""
     from friction_model.drywet_law import DryWetLaw
+    from friction_model.dynamics import velocity_step
     from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
-    from friction_model.laws import ExponentialLaw
+    from friction_model.laws import ExponentialLaw, RelaxedFriction
 
     geom = spec.geometry
     lengths = geom.element_lengths * 1e-3
@@ -550,6 +670,14 @@ def _simulate(spec: _ModelInput) -> _ModelStates:
         )
     else:
         law = ExponentialLaw(**_EQ57)
+    if spec.relaxation_s > 0.0:
+        law = RelaxedFriction(law, tau_s=spec.relaxation_s)  # Eq. 5.12
+    # Frame k shows model time settle_s + k / fps, so the step sits at settle_s + step_time_s.
+    velocity: Any = (
+        velocity_step(spec.velocity_mps, spec.step[0], spec.step[1])
+        if spec.step
+        else spec.velocity_mps
+    )
     load_N = spec.pressure_bar * 1e5 * geom.nominal_area_mm2 * 1e-6
     stiffness = params.youngs_modulus_Pa * lengths.sum() * params.width_m / params.height_m
     preload = params.height_m - load_N / stiffness
@@ -571,7 +699,7 @@ def _simulate(spec: _ModelInput) -> _ModelStates:
     )
     res = simulate_block_dynamics(
         params,
-        velocity=spec.velocity_mps,
+        velocity=velocity,
         preload=preload,
         friction=law,
         t_end_s=t_end,
@@ -645,6 +773,11 @@ class _Clip:
         )
         self.t_mid = spec.center_time_s if spec.center_time_s is not None else 0.5 * spec.duration_s
         self.blur_mm = spec.velocity_mps * cam.exposure_s * 1e3
+        self.blur_after_mm = (
+            float(spec.velocity_step_to_mps) * cam.exposure_s * 1e3
+            if spec.has_step
+            else self.blur_mm
+        )
         scene_rng = np.random.default_rng(np.random.SeedSequence(spec.seed, spawn_key=(0,)))
         illum = illumination_field(
             cam.height_px,
@@ -684,7 +817,8 @@ class _Clip:
             # Bubbles of the ice slab over the whole stretch of track the camera can see:
             # radius 0.05-0.3 mm as in the TIR view, 0.3-5 mm below the surface, brighter
             # than the ice by 15-40 % (they scatter the backlight towards the camera).
-            travel = spec.velocity_mps * 1e3 * spec.duration_s
+            v_max = max(spec.velocity_mps, spec.velocity_step_to_mps or 0.0)
+            travel = v_max * 1e3 * spec.duration_s
             span = w_mm + 2.0 * travel
             n_b = round(cam.n_bubbles * span / w_mm)
             bubbles = np.column_stack(
@@ -718,7 +852,15 @@ class _Clip:
 
     def travel_mm(self, k: int) -> float:
         """Distance the block has moved since the reference time t_mid, mm."""
+        if self.spec.has_step:
+            return self.spec.travel_since_mm(self.t_mid, self.time_of(k))
         return self.spec.velocity_mps * 1e3 * (self.time_of(k) - self.t_mid)
+
+    def blur_of(self, k: int) -> float:
+        """Motion during the exposure of frame k (velocity at its centre time), mm."""
+        if self.spec.has_step and self.time_of(k) >= float(self.spec.step_time_s):
+            return self.blur_after_mm
+        return self.blur_mm
 
     def u_front(self, k: int) -> float:
         """Path coordinate u of the block's leading face at frame k, mm."""
@@ -755,7 +897,7 @@ class _Clip:
                 profile,
                 self.path,
                 u_front=u_front,
-                blur_mm=self.blur_mm,
+                blur_mm=self.blur_of(k),
                 lateral=self.lateral,
                 base=self.base,
                 contrast=spec.contrast_max,
@@ -783,7 +925,7 @@ class _Clip:
                 path=self.path,
                 base=self.base,
                 ice_texture=tex,
-                blur_px=self.blur_mm / spec.camera.mm_per_px,
+                blur_px=self.blur_of(k) / spec.camera.mm_per_px,
                 blur_block=not spec.follow_camera,
             )
             rows = self._side_rows(frame, contacts, polys, u_front, deflection)

@@ -323,6 +323,14 @@ def _reference_holds_block(reference: Reference, contact_is: str, options: Analy
     return largest > options.min_block_fraction * dark.size
 
 
+def _frames_differ(samples: list[np.ndarray], reference: Reference, contact_is: str,
+                   options: AnalysisOptions) -> bool:
+    """True when some sampled frame has a block-sized region darker than the reference."""
+    norm = _Normaliser(reference, contact_is)
+    need = options.min_block_fraction * reference.image.size
+    return any(int((norm(f) > options.min_darkness).sum()) > need for f in samples)
+
+
 class _Normaliser:
     """Darkness of a frame against a fixed reference, with invalid pixels at 0."""
 
@@ -401,6 +409,11 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         method = "percentile"
         if view == "tir" and _reference_holds_block(reference, contact_is, options):
             reference, method = None, "per-frame closing (the block never leaves the view)"
+        elif view == "side" and not _frames_differ(samples, reference, contact_is, options):
+            # no sampled frame differs from the percentile image: the block is in every frame
+            # (a camera following the block) or in none; the side view then normalises each
+            # frame by its own background (tir_contact.side.side_darkness)
+            reference, method = None, "per-frame background (no frame without the block)"
     else:
         reference, method = None, f"per-frame closing ({len(samples)} frame(s) only)"
     contrast = options.contrast
