@@ -82,6 +82,45 @@ def timing() -> None:
             unregister_candidate(name)
 
 
+def transient_strength(effect: str, size: float, noise: float) -> float:
+    """Strength whose RMS change of the angle is `size` x the noise (noise relative to the
+    angle before the step, as in make_transient_table)."""
+    from scipy.optimize import brentq
+
+    from synthetic.measurements import make_transient_table
+
+    base = make_transient_table(noise=0.0)
+    scale = abs(float(base.angle_deg.iloc[0]))
+
+    def excess(strength: float) -> float:
+        eff = make_transient_table(effects={effect: strength}, noise=0.0)
+        rms = float(np.sqrt(np.mean((eff.angle_deg - base.angle_deg) ** 2))) / scale
+        return rms / noise - size
+
+    return brentq(excess, 1e-4, 5.0, xtol=1e-4)
+
+
+def _transient_counts(effect: str, noise: float, size: float, n_seeds: int) -> Counter:
+    """Outcomes of the workflow on transient tables with `effect` hidden."""
+    from friction_model.discrepancy import TransientProblem
+    from synthetic.measurements import make_transient_table
+
+    counts: Counter = Counter()
+    try:
+        strength = transient_strength(effect, size, noise)
+    except ValueError:
+        counts["unreachable"] += n_seeds
+        return counts
+    for seed in range(n_seeds):
+        table = make_transient_table(effects={effect: strength}, noise=noise, rng=7000 + seed)
+        r = run_discrepancy(TransientProblem.from_tables([table]), seed=seed, max_effects=1)
+        key = (r.missing_effects[0] if r.missing_effects else
+               "ambiguous" if r.verdict.startswith("ambiguous") else
+               "unexplained" if r.verdict.startswith("unexplained") else "none")
+        counts[key] += 1
+    return counts
+
+
 def full(n_seeds: int) -> None:
     transient = importlib.util.find_spec("friction_model.discrepancy.transient") is not None
     effects = ["none", *EFFECT_NAMES]
@@ -93,7 +132,10 @@ def full(n_seeds: int) -> None:
                     if not transient:
                         print(f"{effect}: skipped (friction_model.discrepancy.transient missing)")
                         continue
-                    print(f"{effect}: transient tables not wired into this benchmark yet")
+                    counts = _transient_counts(effect, noise, size, n_seeds)
+                    confusion[(effect, noise, size)] = counts
+                    print(f"{effect:24s} noise {noise:4.2f} size {size:4.1f}: right "
+                          f"{counts[effect]}/{n_seeds}, outcomes {dict(counts)}", flush=True)
                     continue
                 if effect == "none" and size != 3.0:
                     continue
@@ -129,7 +171,7 @@ def full(n_seeds: int) -> None:
                     flush=True,
                 )
     print("\nconfusion matrix at 5 % noise, size 3 (rows: hidden; columns: named)")
-    cols = [*DRY_WET_EFFECTS, "ambiguous", "unexplained", "none"]
+    cols = [*EFFECT_NAMES, "ambiguous", "unexplained", "none"]
     print(" " * 24 + " ".join(f"{c[:10]:>10s}" for c in cols))
     for effect in effects:
         counts = confusion.get((effect, 0.05, 3.0))
