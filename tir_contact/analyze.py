@@ -650,7 +650,6 @@ def analyze_video(
 
     Examples
     --------
-    >>> from tir_contact.io import ArrayReader
     >>> import tempfile, json, pathlib
     >>> folder = pathlib.Path(tempfile.mkdtemp())
     >>> frames = np.full((8, 16, 24), 200, np.uint8); frames[4, 5:10, 10:20] = 40
@@ -658,7 +657,7 @@ def analyze_video(
     >>> meta = {"fps": 1000, "mm_per_px": 0.1, "sliding_direction": "left"}
     >>> _ = (folder / "meta.json").write_text(json.dumps(meta))
     >>> result = analyze_video(folder / "clip.tif")
-    >>> result.frames.loc[4, "contact_area_mm2"].round(6)
+    >>> round(float(result.frames.loc[4, "contact_area_mm2"]), 6)  # 5 x 10 px of 0.01 mm2
     0.5
     """
     from tqdm.auto import tqdm
