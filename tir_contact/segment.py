@@ -231,5 +231,5 @@ def segment_frame(
         lab = remap[lab]
     n_regions = int(keep.sum())
     labels[box] = lab
-    mask = labels > 0
-    return FrameContact(mask, labels, threshold, n_regions, d)
+    empty[box] = lab > 0  # only the box is touched: the rest stays zero-filled by calloc
+    return FrameContact(empty, labels, threshold, n_regions, d)
