@@ -300,3 +300,18 @@ def test_side_view_with_a_camera_following_the_block(tmp_path):
     err = (merged.deflection_angle_deg - merged.deflection_angle_deg_t).abs()
     assert merged.deflection_angle_deg.notna().mean() >= 0.8
     assert err.median() <= 0.5  # the issue's side-view accuracy
+
+
+def test_batch_on_a_dask_scheduler(clip, tmp_path):
+    """--scheduler ADDRESS: the same results as a local run (needs the dask extra)."""
+    distributed = pytest.importorskip("dask.distributed")
+    items = find_footage([clip])
+    local = analyze_batch(items, tmp_path / "local", options=FAST, workers=1, progress=False)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        report = analyze_batch(items, tmp_path / "dask", options=FAST,
+                               scheduler=cluster.scheduler_address, progress=False)
+    assert local.ok and report.ok
+    a = pd.read_csv(tmp_path / "local" / clip.name / "frames.csv")
+    b = pd.read_csv(tmp_path / "dask" / clip.name / "frames.csv")
+    pd.testing.assert_frame_equal(a, b)
