@@ -30,7 +30,6 @@ import math
 import os
 import re
 import sys
-import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from datetime import UTC, datetime
@@ -41,6 +40,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
+from friction_model._atomic import atomic_write
 from friction_model._rig_io import (
     OPTIONAL_COLUMNS,
     REQUIRED_COLUMNS,
@@ -1385,22 +1385,7 @@ def evaluate_runs(
 # output
 
 
-def _atomic_target(path: Path) -> Path:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    return Path(tmp)
-
-
-def _atomic_write(path: Path, writer: Callable[[Path], object]) -> Path:
-    """Write via ``writer(tmp_path)`` to a temp file in the same folder, then os.replace."""
-    tmp = _atomic_target(path)
-    try:
-        writer(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
+_atomic_write = atomic_write
 
 
 def _write_csv(df: pd.DataFrame, path: Path) -> Path:

@@ -21,10 +21,11 @@ import json
 import math
 import numbers
 import os
-import tempfile
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
+
+from friction_model._atomic import atomic_write
 
 __all__ = [
     "SCHEMA",
@@ -341,15 +342,7 @@ def write_parameters(
     if not path.parent.is_dir():
         raise ParameterFileError(f"{path}: folder {path.parent} does not exist")
     text = json.dumps(doc, indent=2, sort_keys=False, allow_nan=False) + "\n"
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def read_parameters(path: str | os.PathLike[str]) -> dict[str, Any]:

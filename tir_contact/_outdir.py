@@ -5,41 +5,13 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import tempfile
 import uuid
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from friction_model._atomic import atomic_write
+
 __all__ = ["atomic_write", "replace_folder", "staging_folder", "write_json"]
-
-
-def atomic_write(path: Path, writer: Callable[[Path], object]) -> Path:
-    """Write through ``writer(tmp)`` to a temporary file beside `path`, then rename it.
-
-    Parameters
-    ----------
-    path : Path
-        Final file.
-    writer : callable
-        Called with the temporary path; must create that file.
-
-    Returns
-    -------
-    Path
-        `path`.
-    """
-    path = Path(path)
-    fd, tmp_name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    tmp = Path(tmp_name)
-    try:
-        writer(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
 
 
 def _json_default(obj: Any) -> Any:
