@@ -1,13 +1,17 @@
-"""Atomic file writes: a file appears complete or not at all (shared by every writer)."""
+"""Atomic file writes (a file appears complete or not at all) and JSON-safe values."""
 
 from __future__ import annotations
 
+import json
+import math
+import numbers
 import os
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import Any
 
-__all__ = ["atomic_write"]
+__all__ = ["atomic_write", "json_safe", "write_json"]
 
 
 def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object]) -> Path:
@@ -46,3 +50,34 @@ def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object])
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def json_safe(obj: Any) -> Any:
+    """Plain JSON values: numpy scalars and arrays to Python, non-finite floats to None.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> json_safe({"a": np.float64("nan"), "b": np.arange(2), 3: (np.int64(1), True)})
+    {'a': None, 'b': [0, 1], '3': [1, True]}
+    """
+    if isinstance(obj, Mapping):
+        return {str(k): json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [json_safe(v) for v in obj]
+    if hasattr(obj, "tolist") and not isinstance(obj, str):
+        return json_safe(obj.tolist())
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return obj
+    if isinstance(obj, numbers.Integral):
+        return int(obj)
+    if isinstance(obj, numbers.Real):
+        x = float(obj)
+        return x if math.isfinite(x) else None
+    return str(obj)
+
+
+def write_json(path: str | os.PathLike[str], data: Any, *, sort_keys: bool = True) -> Path:
+    """Write :func:`json_safe` `data` as indented UTF-8 JSON, atomically."""
+    text = json.dumps(json_safe(data), indent=2, sort_keys=sort_keys, allow_nan=False) + "\n"
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))

@@ -1385,15 +1385,12 @@ def evaluate_runs(
 # output
 
 
-_atomic_write = atomic_write
-
-
 def _write_csv(df: pd.DataFrame, path: Path) -> Path:
-    return _atomic_write(path, lambda tmp: df.to_csv(tmp, index=False, lineterminator="\n"))
+    return atomic_write(path, lambda tmp: df.to_csv(tmp, index=False, lineterminator="\n"))
 
 
 def _save_figure(fig: Any, path: Path) -> Path:
-    return _atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
 
 
 def _package_version() -> str:
@@ -1536,7 +1533,7 @@ def write_outputs(
         "outputs": sorted(p.name for p in written.values() if p.parent == out),
     }
     text = json.dumps(provenance, indent=2, default=str) + "\n"
-    written["provenance"] = _atomic_write(
+    written["provenance"] = atomic_write(
         out / "provenance.json", lambda tmp: tmp.write_text(text, encoding="utf-8")
     )
     result.outputs = written

@@ -25,7 +25,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from friction_model._atomic import atomic_write
+from friction_model._atomic import atomic_write, json_safe
 
 __all__ = [
     "SCHEMA",
@@ -256,24 +256,6 @@ def _validate(path: Path | str, doc: Any) -> dict[str, Any]:
     return out
 
 
-def _json_safe(obj: Any) -> Any:
-    """Plain JSON values: numpy scalars to Python, non-finite floats to null."""
-    if isinstance(obj, Mapping):
-        return {str(k): _json_safe(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_json_safe(v) for v in obj]
-    if hasattr(obj, "tolist") and not isinstance(obj, str):
-        return _json_safe(obj.tolist())
-    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
-        return obj
-    if isinstance(obj, numbers.Integral):
-        return int(obj)
-    if isinstance(obj, numbers.Real):
-        x = float(obj)
-        return x if math.isfinite(x) else None
-    return str(obj)
-
-
 def write_parameters(
     path: str | os.PathLike[str],
     *,
@@ -326,7 +308,7 @@ def write_parameters(
         "package": "tir-contact",
         "package_version": pkg_version,
         "created_utc": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        **_json_safe(dict(provenance or {})),
+        **json_safe(dict(provenance or {})),
     }
     doc: dict[str, Any] = {"schema": SCHEMA, "schema_version": SCHEMA_VERSION, "provenance": prov}
     for name, section in (
@@ -337,7 +319,7 @@ def write_parameters(
         ("element", element),
     ):
         if section is not None:
-            doc[name] = {k: v for k, v in _json_safe(dict(section)).items() if v is not None}
+            doc[name] = {k: v for k, v in json_safe(dict(section)).items() if v is not None}
     _validate(path, doc)
     if not path.parent.is_dir():
         raise ParameterFileError(f"{path}: folder {path.parent} does not exist")

@@ -21,7 +21,6 @@ the background is then estimated from each frame itself
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 import os
@@ -36,7 +35,7 @@ import pandas as pd
 
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
-from tir_contact.meta import META_FILENAME
+from tir_contact.meta import clip_footage
 from tir_contact.segment import estimate_contrast, region_arrays, segment_frame
 
 logger = logging.getLogger(__name__)
@@ -230,25 +229,6 @@ def _images_in(folder: Path) -> int:
         return 0
 
 
-def _from_clip_meta(folder: Path) -> Path | None:
-    """The footage a ``meta.json`` names (``frame_pattern`` folder or ``video_file``)."""
-    meta = folder / META_FILENAME
-    if not meta.is_file():
-        return None
-    try:
-        data = json.loads(meta.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-    if not isinstance(data, dict):
-        return None
-    if isinstance(data.get("video_file"), str):
-        return folder / data["video_file"]
-    pattern = data.get("frame_pattern")
-    if isinstance(pattern, str) and len(Path(pattern).parts) > 1:
-        return folder / Path(pattern).parts[0]
-    return None
-
-
 def resolve_footage(path: str | os.PathLike[str]) -> tuple[Path, str]:
     """The footage a path means, and its result name.
 
@@ -262,7 +242,7 @@ def resolve_footage(path: str | os.PathLike[str]) -> tuple[Path, str]:
     """
     p = Path(path)
     if p.is_dir() and _images_in(p) == 0:
-        inner = _from_clip_meta(p)
+        inner = clip_footage(p)
         if inner is not None:
             return inner, p.name
     return p, output_name(p)
@@ -341,6 +321,13 @@ class _Normaliser:
         self._sign = -1.0 if contact_is == "dark" else 1.0
         self._scale = (self._sign * inv).astype(np.float32)
         self._offset = (-self._sign * reference.valid).astype(np.float32)
+
+    @classmethod
+    def own_background(cls, frame: np.ndarray, contact_is: str,
+                       options: AnalysisOptions) -> _Normaliser:
+        """Normaliser against the frame's own background (no clean reference)."""
+        return cls(reference_from_frame(frame, contact_is=contact_is,
+                                        size_px=options.closing_size_px), contact_is)
 
     def __call__(self, frame: np.ndarray) -> np.ndarray:
         d = frame.astype(np.float32)
@@ -421,9 +408,7 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         values = []
         shared = _Normaliser(reference, contact_is) if reference is not None else None
         for frame in samples:
-            norm = shared or _Normaliser(
-                reference_from_frame(frame, contact_is=contact_is,
-                                     size_px=options.closing_size_px), contact_is)
+            norm = shared or _Normaliser.own_background(frame, contact_is, options)
             values.append(estimate_contrast(norm(frame), min_darkness=options.min_darkness))
         finite = [v for v in values if np.isfinite(v)]
         contrast = float(np.median(finite)) if finite else None
@@ -433,10 +418,9 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
 
 
 def _fully_in_view(front_mm: float, setup: _Setup, margin_mm: float = 0.5) -> bool:
-    lengths = setup.layout.element_lengths_mm
-    if lengths is None or not np.isfinite(front_mm):
+    if not np.isfinite(front_mm) or setup.layout.element_lengths_mm is None:
         return bool(np.isfinite(front_mm))
-    total = float(np.sum(lengths) + setup.layout.sipe_width_mm * (len(lengths) - 1))
+    total = setup.layout.block_length_mm
     width_mm = setup.shape[1] * setup.mm_per_px
     back = front_mm + total if setup.layout.sliding_direction == "left" else front_mm - total
     lo, hi = min(front_mm, back), max(front_mm, back)
@@ -460,9 +444,8 @@ class _FrameAnalyser:
     def darkness(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self.normalise is not None:
             return self.normalise(frame), self.normalise.valid
-        ref = reference_from_frame(frame, contact_is=self.setup.contact_is,
-                                   size_px=self.options.closing_size_px)
-        return _Normaliser(ref, self.setup.contact_is)(frame), ref.valid
+        norm = _Normaliser.own_background(frame, self.setup.contact_is, self.options)
+        return norm(frame), norm.valid
 
     def tir(self, k: int, frame: np.ndarray) -> tuple[dict, np.ndarray, dict | None, Any]:
         from tir_contact.features import tir_frame_records
@@ -503,26 +486,17 @@ class _FrameAnalyser:
         return row, el, feats
 
 
-def _tidy(rows: list[dict], columns: list[str]) -> pd.DataFrame:
-    df = pd.DataFrame(rows)
-    for c in columns:
-        if c not in df.columns:
-            df[c] = np.nan
-    extra = [c for c in df.columns if c not in columns]
-    return df[columns + extra]
-
-
-def _concat(parts: list[pd.DataFrame], columns: list[str]) -> pd.DataFrame:
-    parts = [p for p in parts if len(p)]
-    df = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
-    return _tidy(df.to_dict("records"), columns) if not parts else _reorder(df, columns)
-
-
 def _reorder(df: pd.DataFrame, columns: list[str]) -> pd.DataFrame:
+    """`columns` first (NaN where missing), then any further columns."""
     for c in columns:
         if c not in df.columns:
             df[c] = np.nan
     return df[columns + [c for c in df.columns if c not in columns]]
+
+
+def _concat(parts: list[pd.DataFrame], columns: list[str]) -> pd.DataFrame:
+    parts = [p for p in parts if len(p)]
+    return _reorder(pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(), columns)
 
 
 def _element_frame(el: Any, k: int, fps: float) -> pd.DataFrame:
@@ -715,7 +689,7 @@ def analyze_video(
             if video is not None:
                 video.close()
         elapsed = time.perf_counter() - t0
-        frames_df = _tidy(rows, FRAME_COLUMNS) if rows else pd.DataFrame(columns=FRAME_COLUMNS)
+        frames_df = _reorder(pd.DataFrame(rows), FRAME_COLUMNS)
         if setup.view == "tir":
             elements_df = _records_table(records, record_frames, setup.fps)
         else:

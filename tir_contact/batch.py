@@ -28,13 +28,12 @@ from tir_contact.analyze import (
     _RESULT_VERSION,
     RESULT_FILES,
     AnalysisOptions,
-    _from_clip_meta,
     _images_in,
     analyze_video,
     footage_fingerprint,
     resolve_footage,
 )
-from tir_contact.meta import META_FILENAME
+from tir_contact.meta import META_FILENAME, clip_footage
 
 logger = logging.getLogger(__name__)
 
@@ -116,7 +115,7 @@ def _walk(root: Path) -> list[Footage]:
     for folder, subdirs, files in os.walk(root):
         here = Path(folder)
         subdirs[:] = sorted(d for d in subdirs if not d.startswith("."))
-        inner = _from_clip_meta(here)
+        inner = clip_footage(here)
         if inner is not None and _images_in(here) == 0:
             found.append(Footage(inner, here.name))
             subdirs[:] = [d for d in subdirs if here / d != inner]
@@ -184,7 +183,7 @@ def find_footage(
         p = Path(raw)
         if not p.exists():
             raise FootageError(f"{p}: does not exist", p)
-        if p.is_dir() and recursive and _images_in(p) == 0 and _from_clip_meta(p) is None:
+        if p.is_dir() and recursive and _images_in(p) == 0 and clip_footage(p) is None:
             found = _walk(p)
             if not found:
                 raise FootageError(f"{p}: no footage found in the tree", p)

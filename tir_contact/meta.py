@@ -42,6 +42,7 @@ __all__ = [
     "META_FILENAME",
     "REQUIRED_KEYS",
     "MetaField",
+    "clip_footage",
     "find_meta",
     "load_meta",
     "option_flag",
@@ -180,21 +181,42 @@ def find_meta(path: str | os.PathLike[str]) -> Path | None:
         candidate = path / META_FILENAME
         if candidate.is_file():
             return candidate
-        parent = path.parent / META_FILENAME  # frames/ inside a clip folder (synthetic layout)
-        return parent if parent.is_file() and _names_folder(parent, path.name) else None
+        # frames/ inside a clip folder (synthetic layout)
+        return path.parent / META_FILENAME if clip_footage(path.parent) == path else None
     for candidate in (path.with_name(path.name + ".meta.json"), path.with_name(META_FILENAME)):
         if candidate.is_file():
             return candidate
     return None
 
 
-def _names_folder(meta_path: Path, folder: str) -> bool:
-    """True when `meta_path` gives a ``frame_pattern`` inside the sub-folder `folder`."""
+def clip_footage(folder: str | os.PathLike[str]) -> Path | None:
+    """The footage a clip folder's ``meta.json`` names, if any.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        A folder that may hold a ``meta.json`` as written by ``tir-contact synth footage``.
+
+    Returns
+    -------
+    Path or None
+        ``folder/<video_file>``, or the sub-folder of ``frame_pattern`` (``folder/frames``);
+        None when the folder has no readable ``meta.json`` naming either.
+    """
+    folder = Path(folder)
+    meta = folder / META_FILENAME
     try:
-        pattern = json.loads(meta_path.read_text(encoding="utf-8")).get("frame_pattern")
-    except (OSError, ValueError, AttributeError):
-        return False
-    return isinstance(pattern, str) and Path(pattern).parts[:1] == (folder,)
+        data = json.loads(meta.read_text(encoding="utf-8")) if meta.is_file() else None
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict):
+        return None
+    if isinstance(data.get("video_file"), str):
+        return folder / data["video_file"]
+    pattern = data.get("frame_pattern")
+    if isinstance(pattern, str) and len(Path(pattern).parts) > 1:
+        return folder / Path(pattern).parts[0]
+    return None
 
 
 def _meta_target(path: Path) -> Path:

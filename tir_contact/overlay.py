@@ -50,10 +50,6 @@ def to_display(frame: np.ndarray, max_dn: float | None = None) -> np.ndarray:
     return cv2.cvtColor(grey, cv2.COLOR_GRAY2BGR)
 
 
-def _x_px(x_mm: float, mm_per_px: float) -> int:
-    return round(x_mm / mm_per_px - 0.5)
-
-
 def _scale_up(img: np.ndarray, min_height: int = 256) -> tuple[np.ndarray, int]:
     import cv2
 

@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 import json
-import math
 import os
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from friction_model._atomic import atomic_write
+from friction_model._atomic import atomic_write, json_safe
 from friction_model.discrepancy._workflow import DiscrepancyResult
 
 __all__ = ["PLOT_FILES", "write_result"]
@@ -19,42 +17,18 @@ __all__ = ["PLOT_FILES", "write_result"]
 PLOT_FILES: tuple[str, ...] = ("residuals.png", "measured_vs_simulated.png", "candidates.png")
 
 
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.integer | np.bool_):
-        return obj.item()
-    if isinstance(obj, np.floating):
-        return float(obj)
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
-
-
-def _clean(obj: Any) -> Any:
-    """NaN and inf become None (JSON has neither)."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, float | np.floating) and not math.isfinite(float(obj)):
-        return None
-    return obj
-
-
-_atomic_write = atomic_write
-
-
 def _write_text(path: Path, text: str) -> None:
     def write(tmp: str) -> None:
         with open(tmp, "w", encoding="utf-8", newline="\n") as fh:
             fh.write(text)
 
-    _atomic_write(path, write)
+    atomic_write(path, write)
 
 
 def _save_figure(fig, path: Path) -> None:
     import matplotlib.pyplot as plt
 
-    _atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
+    atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
     plt.close(fig)
 
 
@@ -222,7 +196,7 @@ def write_result(result: DiscrepancyResult, out_dir: str | os.PathLike[str]) -> 
     if out.exists() and not out.is_dir():
         raise ValueError(f"out_dir {str(out)!r} exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(_clean(result.to_dict()), indent=2, default=_json_default)
+    text = json.dumps(json_safe(result.to_dict()), indent=2)
     _write_text(out / "result.json", text + "\n")
     _write_text(out / "report.md", _report_md(result))
     _plots(result, out)
