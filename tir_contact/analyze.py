@@ -33,10 +33,16 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
 from tir_contact.meta import clip_footage
-from tir_contact.segment import estimate_contrast, region_arrays, segment_frame
+from tir_contact.segment import (
+    contact_box,
+    estimate_contrast,
+    label_contact,
+    segment_frame,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -232,8 +238,9 @@ def _images_in(folder: Path) -> int:
 def resolve_footage(path: str | os.PathLike[str]) -> tuple[Path, str]:
     """The footage a path means, and its result name.
 
-    A synthetic clip folder (``meta.json`` naming ``frames/...`` or a video file, no frames
-    of its own) means its frames folder or video, named after the clip folder.
+    A synthetic clip folder (``meta.json`` naming ``frames/...`` or a video file that
+    exists) means its frames folder or video, named after the clip folder; this holds for
+    a multi-page TIFF in the clip folder too.
 
     Returns
     -------
@@ -241,9 +248,9 @@ def resolve_footage(path: str | os.PathLike[str]) -> tuple[Path, str]:
         What the reader opens, and the result folder name.
     """
     p = Path(path)
-    if p.is_dir() and _images_in(p) == 0:
+    if p.is_dir():
         inner = clip_footage(p)
-        if inner is not None:
+        if inner is not None and (inner.exists() or _images_in(p) == 0):
             return inner, p.name
     return p, output_name(p)
 
@@ -306,34 +313,9 @@ def _reference_holds_block(reference: Reference, contact_is: str, options: Analy
 def _frames_differ(samples: list[np.ndarray], reference: Reference, contact_is: str,
                    options: AnalysisOptions) -> bool:
     """True when some sampled frame has a block-sized region darker than the reference."""
-    norm = _Normaliser(reference, contact_is)
+    norm = Normaliser(reference, contact_is)
     need = options.min_block_fraction * reference.image.size
     return any(int((norm(f) > options.min_darkness).sum()) > need for f in samples)
-
-
-class _Normaliser:
-    """Darkness of a frame against a fixed reference, with invalid pixels at 0."""
-
-    def __init__(self, reference: Reference, contact_is: str) -> None:
-        self.reference = reference
-        self.valid = reference.valid
-        inv = np.where(reference.valid, 1.0 / np.maximum(reference.image, 1e-6), 0.0)
-        self._sign = -1.0 if contact_is == "dark" else 1.0
-        self._scale = (self._sign * inv).astype(np.float32)
-        self._offset = (-self._sign * reference.valid).astype(np.float32)
-
-    @classmethod
-    def own_background(cls, frame: np.ndarray, contact_is: str,
-                       options: AnalysisOptions) -> _Normaliser:
-        """Normaliser against the frame's own background (no clean reference)."""
-        return cls(reference_from_frame(frame, contact_is=contact_is,
-                                        size_px=options.closing_size_px), contact_is)
-
-    def __call__(self, frame: np.ndarray) -> np.ndarray:
-        d = frame.astype(np.float32)
-        d *= self._scale
-        d += self._offset
-        return d
 
 
 # --------------------------------------------------------------------------------------------
@@ -406,9 +388,9 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     contrast = options.contrast
     if contrast is None and view == "tir":
         values = []
-        shared = _Normaliser(reference, contact_is) if reference is not None else None
+        shared = Normaliser(reference, contact_is) if reference is not None else None
         for frame in samples:
-            norm = shared or _Normaliser.own_background(frame, contact_is, options)
+            norm = shared or Normaliser.own_background(frame, contact_is, options.closing_size_px)
             values.append(estimate_contrast(norm(frame), min_darkness=options.min_darkness))
         finite = [v for v in values if np.isfinite(v)]
         contrast = float(np.median(finite)) if finite else None
@@ -434,34 +416,76 @@ class _FrameAnalyser:
         self.setup = setup
         self.options = options
         self.normalise = (
-            _Normaliser(setup.reference, setup.contact_is) if setup.reference else None
+            Normaliser(setup.reference, setup.contact_is) if setup.reference else None
         )
         self.ice_y_px: float | None = None
         self.want_regions = options.regions == "always" or (
             options.regions == "auto" and setup.layout.element_lengths_mm is None
         )
+        # fast path (fixed reference and contrast): threshold the raw frame, compute the
+        # darkness only around the contact (tir_contact._darkness)
+        self._threshold = math.nan
+        if setup.contrast is not None and math.isfinite(setup.contrast):
+            self._threshold = max(0.5 * setup.contrast, 0.5 * options.min_darkness)
+        self._raw_tests: dict[str, RawContactTest | None] = {}  # by dtype character
+        self._box = (
+            BoxDarkness(self.normalise, setup.shape)
+            if self.normalise is not None and setup.view == "tir"
+            else None
+        )
 
     def darkness(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self.normalise is not None:
             return self.normalise(frame), self.normalise.valid
-        norm = _Normaliser.own_background(frame, self.setup.contact_is, self.options)
+        norm = Normaliser.own_background(frame, self.setup.contact_is,
+                                         self.options.closing_size_px)
         return norm(frame), norm.valid
+
+    def _raw_test(self, frame: np.ndarray) -> RawContactTest | None:
+        if self._box is None or not math.isfinite(self._threshold):
+            return None
+        test = self._raw_tests.get(frame.dtype.char, False)
+        if test is False:
+            test = RawContactTest.build(self.normalise, self._threshold, frame.dtype)
+            self._raw_tests[frame.dtype.char] = test
+        return test
+
+    def segment(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray, Any]:
+        """Darkness, valid mask and contact of a TIR frame."""
+        from tir_contact.features import EDGE_MARGIN_PX
+
+        test = self._raw_test(frame)
+        raw = test(frame) if test is not None else None
+        if raw is None:
+            d, valid = self.darkness(frame)
+            contact = segment_frame(d, contrast=self.setup.contrast,
+                                    min_darkness=self.options.min_darkness,
+                                    min_area_px=self.options.min_area_px)
+            return d, valid, contact
+        box = contact_box(raw)
+        if box is None:
+            d = self._box.clear()
+        else:  # the rows and (widened) columns the features read
+            cols = slice(max(box[1].start - EDGE_MARGIN_PX, 0),
+                         min(box[1].stop + EDGE_MARGIN_PX, raw.shape[1]))
+            d = self._box.fill(frame, box[0], cols)
+        contact = label_contact(raw, self._threshold, d, min_area_px=self.options.min_area_px,
+                                box=box)
+        return d, self.normalise.valid, contact
 
     def tir(self, k: int, frame: np.ndarray) -> tuple[dict, np.ndarray, dict | None, Any]:
         from tir_contact.features import tir_frame_records
 
         s = self.setup
         t = k / s.fps
-        d, valid = self.darkness(frame)
-        contact = segment_frame(d, contrast=s.contrast, min_darkness=self.options.min_darkness,
-                                min_area_px=self.options.min_area_px)
+        d, valid, contact = self.segment(frame)
         row, rec = tir_frame_records(d, contact, s.layout, valid=valid, time_s=t)
         row = {"frame": k, "time_s": t, **row, "n_regions": contact.n_regions}
         row["block_fully_in_view"] = bool(row.get("block_in_view")) and _fully_in_view(
             row.get("block_front_x_mm", np.nan), s)
         regions = None
         if self.want_regions:
-            regions = region_arrays(contact.labels, contact.n_regions, d)
+            regions = contact.region_arrays()
             regions["frame"] = np.full(contact.n_regions, k)
         return row, rec, regions, contact
 
@@ -674,7 +698,7 @@ def analyze_video(
                     row, el, reg, contact = analyser.tir(k, frame)
                     if reg is not None:
                         regions.append(reg)
-                    extra = contact.mask
+                    extra = contact
                     if len(el):
                         records.append(el)
                         record_frames.append(np.full(len(el), k))
@@ -781,7 +805,7 @@ def _draw(setup: _Setup, k: int, frame: np.ndarray, row: dict, el: pd.DataFrame,
 
     label = f"frame {k}  t = {k / setup.fps * 1e3:.2f} ms"
     if setup.view == "tir":
-        return draw_tir_overlay(frame, extra, el, row, mm_per_px=setup.mm_per_px,
+        return draw_tir_overlay(frame, extra.mask, el, row, mm_per_px=setup.mm_per_px,
                                 max_dn=setup.max_dn, label=label)
     lines = getattr(extra, "lines", {}) or {}
     return draw_side_overlay(frame, el, lines, ice_y_px=getattr(extra, "ice_y_px", None),
@@ -818,8 +842,7 @@ def _write(result: VideoAnalysis, final: Path, reader: Any, analyser: _FrameAnal
                 except FootageError:
                     continue
                 if setup.view == "tir":
-                    row, el, _, contact = analyser.tir(k, frame)
-                    extra = contact.mask
+                    row, el, _, extra = analyser.tir(k, frame)
                 else:
                     row, el, extra = analyser.side(k, frame)
                 cv2.imwrite(str(stage / "overlays" / f"frame_{k:06d}.png"),

@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tir_contact._percentile import pixelwise_percentile
+
 __all__ = [
     "Reference",
     "darkness",
@@ -112,7 +114,7 @@ def reference_from_frames(
     kept: list[np.ndarray] = []
     for i, frame in enumerate(frames):
         if i % step == 0:
-            kept.append(np.asarray(frame, dtype=np.float32))
+            kept.append(np.asarray(frame))
             if len(kept) >= max_frames:
                 break
     if not kept:
@@ -122,9 +124,13 @@ def reference_from_frames(
             "reference from only %d frame(s); use reference_from_frame for single frames",
             len(kept),
         )
-    stack = np.stack(kept)
+    shapes = {f.shape for f in kept}
+    if len(shapes) > 1 or kept[0].ndim != 2:
+        raise ValueError(f"frames must be 2-D images of one shape, got shapes {sorted(shapes)}")
+    dtype = np.result_type(*kept)
+    kept = [f.astype(dtype, copy=False) for f in kept]
     q = percentile if contact_is == "dark" else 100.0 - percentile
-    image = np.percentile(stack, q, axis=0).astype(float)
+    image = pixelwise_percentile(kept, q)
     return Reference(image, _valid_mask(image, min_relative), "percentile", len(kept))
 
 
