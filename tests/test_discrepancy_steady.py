@@ -95,6 +95,26 @@ def test_effect_size_root_finding():
         effect_size("friction_relaxation", 1.0)
 
 
+@pytest.mark.parametrize("effect", DRY_WET_EFFECTS)
+def test_effect_size_is_what_the_base_factor_cannot_absorb(effect):
+    # independent truth: the relative residual of a least-squares fit of one factor to
+    # the noise-free table with the effect (numpy lstsq on 1 - c * mu_base / mu_effect)
+    strength = {"humidity_water_layer": 5.0, "salinity_melting_point": 1.0,
+                "ice_preheating": 0.5, "viscous_shear": 1.0}[effect]
+    table = GRID.frame()
+    base = DryWetParameters(effects=Effects.none())
+    mu0 = steady_mu(table, base)
+    mu1 = steady_mu(table, base.with_(effects=Effects.only(**{effect: strength})))
+    a = (mu0 / mu1)[:, None]
+    (c,), *_ = np.linalg.lstsq(a, np.ones(len(a)), rcond=None)
+    want = np.sqrt(np.mean((1.0 - c * a[:, 0]) ** 2))
+    got = effect_size(effect, strength, grid=GRID)
+    assert got == pytest.approx(want, rel=1e-9)
+    plain = effect_size(effect, strength, grid=GRID, absorb="none")
+    assert plain == pytest.approx(np.sqrt(np.mean((mu1 / mu0 - 1.0) ** 2)), rel=1e-9)
+    assert got < plain  # every effect is part factor
+
+
 # -- problem -----------------------------------------------------------------------------------
 def test_problem_groups_sigma_and_bounds():
     table = make_steady_table(GRID, noise=NOISE, rng=2)

@@ -29,10 +29,20 @@ Public API
 
 Examples
 --------
->>> from synthetic.measurements import make_steady_table
->>> table = make_steady_table({"velocities_mps": [1, 2, 3, 5], "pressures_bar": [2.5],
-...     "temperatures_C": [-8, -4, -2], "humidities_pct": [40, 90],
-...     "salinities_pct": [0.0], "n_sipes": [0, 3]}, rng=3)
+A steady table made by the base model itself, with 2 % scatter: nothing is missing.
+
+>>> import itertools
+>>> import numpy as np, pandas as pd
+>>> from friction_model.drywet import DryWetParameters, friction_table
+>>> from friction_model.effects import Effects
+>>> from friction_model.geometry import BlockGeometry
+>>> rows = pd.DataFrame(list(itertools.product([1.0, 2.0, 3.0, 5.0], [2.5], [-8.0, -4.0, -2.0],
+...     [40.0, 90.0], [0.0])), columns=["velocity_mps", "pressure_bar", "temperature_C",
+...     "humidity_pct", "salinity_pct"])
+>>> mu = friction_table(BlockGeometry(n_sipes=0), rows,
+...     DryWetParameters(effects=Effects.none()))["mu"].to_numpy()
+>>> scatter = 1.0 + 0.02 * np.random.default_rng(3).standard_normal(len(rows))
+>>> table = rows.assign(n_sipes=0, mu=mu * scatter, mu_std=0.02 * mu)
 >>> result = run_discrepancy(SteadyProblem(table), n_bootstrap=20, n_permutations=99)
 >>> result.verdict
 'no missing effect found'

@@ -117,10 +117,10 @@ class SteadyProblem:
 
     Examples
     --------
-    >>> from synthetic.measurements import make_steady_table
-    >>> table = make_steady_table({"velocities_mps": [1.0, 3.0], "pressures_bar": [2.5],
-    ...     "temperatures_C": [-8.0, -2.0], "humidities_pct": [40.0, 90.0],
-    ...     "salinities_pct": [0.0], "n_sipes": [0]}, rng=1)
+    >>> import itertools
+    >>> rows = list(itertools.product([1.0, 3.0], [2.5], [-8.0, -2.0], [40.0, 90.0], [0.0]))
+    >>> table = pd.DataFrame(rows, columns=["velocity_mps", "pressure_bar", "temperature_C",
+    ...     "humidity_pct", "salinity_pct"]).assign(n_sipes=0, mu=0.1)
     >>> problem = SteadyProblem(table)
     >>> problem.n_base, len(np.unique(problem.groups)), problem.effect_names[0]
     (1, 4, 'humidity_water_layer')
