@@ -152,8 +152,9 @@ def full(n_seeds: int, workers: int) -> None:
     pool = ProcessPoolExecutor(workers) if workers > 1 else None
     t0 = time.perf_counter()
     try:
-        for noise in (0.01, 0.05, 0.10):
-            for size in (0.5, 3.0, 10.0):
+        # the cells the criteria name (5 % noise, size >= 3) first
+        for noise in (0.05, 0.01, 0.10):
+            for size in (3.0, 10.0, 0.5):
                 for effect in effects:
                     is_transient = effect in EFFECT_NAMES and effect not in DRY_WET_EFFECTS
                     if effect == "none" and size != 3.0:
