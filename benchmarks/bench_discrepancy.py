@@ -138,7 +138,12 @@ def _one_run(args: tuple) -> dict:
            "fall_plain": 1.0 - r.gap["rmse_unweighted_after"] / r.gap["rmse_unweighted_before"],
            "param_error": np.nan}
     if effect != "none" and outcome == effect:
-        out["param_error"] = r.fitted[effect]["parameters"][0]["value"] / strength - 1.0
+        truth = strength
+        if effect == "friction_relaxation":  # the candidate fits tau in s
+            from synthetic.measurements import TAU_REF_S
+
+            truth = strength * TAU_REF_S
+        out["param_error"] = r.fitted[effect]["parameters"][0]["value"] / truth - 1.0
     return out
 
 

@@ -65,7 +65,7 @@ def pixelwise_percentile(frames: Sequence[np.ndarray], q: float) -> np.ndarray:
     Examples
     --------
     >>> frames = [np.full((2, 2), v, np.uint8) for v in (5, 1, 9, 3)]
-    >>> pixelwise_percentile(frames, 50.0)[0, 0]  # median of 1, 3, 5, 9
+    >>> float(pixelwise_percentile(frames, 50.0)[0, 0])  # median of 1, 3, 5, 9
     4.0
     """
     n = len(frames)
