@@ -90,37 +90,30 @@ class RawContactTest:
             d += offset
             return d >= t32
 
-        # first estimate of the crossing grey value, then fix by the float32 evaluation
+        # Work in the mirrored grey value g (g = I for dark contact, top - I for bright),
+        # where contact is always g <= G: G = the largest passing g, -1 for none. First
+        # estimate from the crossing, then fix by the float32 evaluation.
+        def passes_g(g: np.ndarray) -> np.ndarray:
+            g = np.clip(g, 0, top)
+            return passes(g if dark else top - g)
+
         with np.errstate(divide="ignore", invalid="ignore"):
             x = (t32.astype(np.float64) - offset) / np.where(valid, scale, 1.0)
-        if dark:  # contact for f <= F: F = largest passing grey value (-1: none)
-            f = np.clip(np.floor(np.nan_to_num(x, nan=-1.0)), -1, top).astype(np.int64)
-            f[~valid] = -1
-            for _ in range(8):
-                up = (f < top) & passes(np.clip(f + 1, 0, top))
-                down = (f >= 0) & ~passes(np.clip(f, 0, top))
-                if not (up.any() or down.any()):
-                    break
-                f = f + up - down
-            else:
-                return None
-            limit = f + 1  # contact: I < limit
-            if limit.max() > top:
-                return None
-        else:  # contact for f >= F: F = smallest passing grey value (top + 1: none)
-            f = np.clip(np.ceil(np.nan_to_num(x, nan=top + 1.0)), 0, top + 1).astype(np.int64)
-            f[~valid] = top + 1
-            for _ in range(8):
-                down = (f > 0) & passes(np.clip(f - 1, 0, top))
-                up = (f <= top) & ~passes(np.clip(f, 0, top))
-                if not (up.any() or down.any()):
-                    break
-                f = f + up - down
-            else:
-                return None
-            limit = f - 1  # contact: I > limit
-            if limit.min() < 0:
-                return None
+        xg = np.nan_to_num(x if dark else top - x, nan=-1.0)
+        g = np.clip(np.floor(xg), -1, top).astype(np.int64)
+        g[~valid] = -1
+        for _ in range(8):
+            up = (g < top) & passes_g(g + 1)
+            down = (g >= 0) & ~passes_g(g)
+            if not (up.any() or down.any()):
+                break
+            g = g + up - down
+        else:
+            return None
+        if g.max() + 1 > top:  # a limit the dtype cannot hold
+            return None
+        # dark: contact I < G + 1; bright: contact I > top - (G + 1)
+        limit = g + 1 if dark else top - (g + 1)
         return cls(limit.astype(dtype), dark)
 
     def __call__(self, frame: np.ndarray) -> np.ndarray | None:

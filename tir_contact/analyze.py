@@ -36,6 +36,7 @@ import pandas as pd
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
+from tir_contact.features import EDGE_MARGIN_PX, BlockLayout, tir_frame_records
 from tir_contact.meta import clip_footage
 from tir_contact.segment import (
     contact_box,
@@ -43,6 +44,7 @@ from tir_contact.segment import (
     label_contact,
     segment_frame,
 )
+from tir_contact.side import ice_line_y_px, side_darkness, side_frame_features
 
 logger = logging.getLogger(__name__)
 
@@ -353,7 +355,6 @@ def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]]) ->
 
 def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
              options: AnalysisOptions) -> _Setup:
-    from tir_contact.features import BlockLayout
     from tir_contact.meta import load_meta
 
     meta = load_meta(path, overrides, frame_rate=reader.frame_rate)
@@ -452,8 +453,6 @@ class _FrameAnalyser:
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray, Any]:
         """Darkness, valid mask and contact of a TIR frame."""
-        from tir_contact.features import EDGE_MARGIN_PX
-
         test = self._raw_test(frame)
         raw = test(frame) if test is not None else None
         if raw is None:
@@ -474,8 +473,6 @@ class _FrameAnalyser:
         return d, self.normalise.valid, contact
 
     def tir(self, k: int, frame: np.ndarray) -> tuple[dict, np.ndarray, dict | None, Any]:
-        from tir_contact.features import tir_frame_records
-
         s = self.setup
         t = k / s.fps
         d, valid, contact = self.segment(frame)
@@ -490,15 +487,11 @@ class _FrameAnalyser:
         return row, rec, regions, contact
 
     def side(self, k: int, frame: np.ndarray) -> tuple[dict, pd.DataFrame, Any]:
-        from tir_contact.side import side_darkness, side_frame_features
-
         s = self.setup
         t = k / s.fps
         d = side_darkness(frame, contact_is=s.contact_is, reference=s.reference)
         valid = s.reference.valid if s.reference is not None else None
         if self.ice_y_px is None and s.reference is not None:
-            from tir_contact.side import ice_line_y_px
-
             self.ice_y_px = ice_line_y_px(s.reference.image, contact_is=s.contact_is)
         feats = side_frame_features(d, s.layout, valid=valid, ice_y_px=self.ice_y_px)
         row = {"frame": k, "time_s": t, **feats.frame}

@@ -5,7 +5,13 @@ from __future__ import annotations
 import argparse
 import math
 
-__all__ = ["finite_number", "non_negative_number", "positive_int", "positive_number"]
+__all__ = [
+    "finite_number",
+    "non_negative_number",
+    "positive_int",
+    "positive_number",
+    "positive_pair",
+]
 
 
 def finite_number(text: str) -> float:
@@ -39,6 +45,20 @@ def non_negative_number(text: str) -> float:
     if value < 0:
         raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
     return value
+
+
+def positive_pair(text: str) -> tuple[float, float]:
+    """Two finite floats > 0 written ``A,B``.
+
+    Examples
+    --------
+    >>> positive_pair("1,5")
+    (1.0, 5.0)
+    """
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"expected two numbers 'A,B', got {text!r}")
+    return positive_number(parts[0]), positive_number(parts[1])
 
 
 def positive_int(text: str) -> int:

@@ -26,16 +26,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from tir_contact.commands._types import positive_int, positive_number
-
-
-def _pair(text: str) -> tuple[float, float]:
-    parts = text.split(",")
-    try:
-        a, b = (float(p) for p in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected two numbers 'A,B', got {text!r}") from None
-    return a, b
+from tir_contact.commands._types import positive_int, positive_number, positive_pair
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -55,7 +46,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                      help="transient tables (one run each)")
     src.add_argument("--elements", type=Path, nargs="+", metavar="PATH",
                      help="elements.csv or analyze result folders (side view)")
-    src.add_argument("--stick-slip", type=_pair, metavar="MEASURED_HZ,SIMULATED_HZ",
+    src.add_argument("--stick-slip", type=positive_pair, metavar="MEASURED_HZ,SIMULATED_HZ",
                      help="measured and simulated stick-slip frequency, Hz")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
     p.add_argument("--params", type=Path, default=None, metavar="JSON",
@@ -71,7 +62,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument("--workers", type=positive_int, default=1,
                    help="processes fitting candidates in parallel (default 1)")
     p.add_argument("--seed", type=int, default=0, help="random seed")
-    p.add_argument("--velocity-step", type=_pair, default=None, metavar="V1,V2",
+    p.add_argument("--velocity-step", type=positive_pair, default=None, metavar="V1,V2",
                    help="commanded velocities before/after the step, m/s (--elements)")
     p.add_argument("--step-time", type=positive_number, default=None, metavar="S",
                    help="time of the velocity step, s (--elements; transient: from the table)")

@@ -28,18 +28,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from tir_contact.commands._types import positive_number
+from tir_contact.commands._types import positive_number, positive_pair
 
 __all__ = ["add_parser", "run"]
 
 PROG = "tir-contact simulate"
-
-
-def _step(text: str) -> tuple[float, float]:
-    parts = text.split(",")
-    if len(parts) != 2:
-        raise argparse.ArgumentTypeError(f"expected V1,V2 (two velocities in m/s), got {text!r}")
-    return positive_number(parts[0]), positive_number(parts[1])
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -76,7 +69,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--velocity-step",
-        type=_step,
+        type=positive_pair,
         default=None,
         metavar="V1,V2",
         help="velocity step of the deflection simulation, m/s (default: min,max velocity)",
