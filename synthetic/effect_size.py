@@ -9,6 +9,16 @@ least squares would fit, ``c = sum(a) / sum(a^2)``, the size is
 ``sqrt(mean((1 - c a)^2))`` (``absorb="scale"``, the default). ``absorb="none"`` gives the
 plain ``sqrt(mean((mu_effect / mu_base - 1)^2))``.
 
+Transient tables (:func:`transient_effect_size`): the same definition on a velocity-step
+record. The base of :class:`friction_model.discrepancy.TransientProblem` fits the run's
+two steady levels, so the size is the RMS, over all samples, of the change of the angle
+that a refit of those two levels leaves, relative to the angle before the step (the
+reference of the table's noise). A transient effect acts only in a window after the step
+and at most over the step height, so this size is capped: for the default record
+(1 -> 5 m/s, angle 25.4 -> 14.2 deg, 0.2 s before and after the step) relaxation reaches
+about 0.08 (1.6 x 5 % noise, near tau = 60 ms) and the frequency-dependent modulus about
+0.05. :func:`strength_for_transient_effect_size` says so when asked for more.
+
 Why this matters: an effect that is 3x the noise in the plain sense but mostly a common
 factor (viscous shear is about one third factor) leaves a base residual of only 2x the
 noise, and the held-out RMSE cannot fall by the 1 - 1/sqrt(1 + 3^2) = 68 % that an effect
@@ -31,9 +41,15 @@ from friction_model._validate import check_positive
 from friction_model.drywet import DryWetParameters, friction_table
 from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
 from friction_model.geometry import BlockGeometry
-from synthetic.measurements import DEFAULT_NOISE, SteadyGrid
+from synthetic.measurements import DEFAULT_NOISE, TAU_REF_S, SteadyGrid, make_transient_table
 
-__all__ = ["effect_size", "strength_for_effect_size"]
+__all__ = [
+    "TRANSIENT_STRENGTH_MAX",
+    "effect_size",
+    "strength_for_effect_size",
+    "strength_for_transient_effect_size",
+    "transient_effect_size",
+]
 
 # largest strength tried by the bracket search (ice_preheating stops at 1)
 _MAX_STRENGTH = 1.0e3
@@ -218,4 +234,167 @@ def strength_for_effect_size(
     # about rtol on the size
     return float(
         scipy.optimize.brentq(lambda s: size_at(s) - target, 0.0, hi, rtol=rtol, xtol=1e-9)
+    )
+
+
+#: Largest strength searched per transient effect: the upper bounds of the workflow's
+#: candidates (relaxation tau <= ``TAU_MAX_S`` = 0.2 s = 10 x ``TAU_REF_S``; modulus
+#: strength <= 5), so a found strength can be fitted back.
+TRANSIENT_STRENGTH_MAX = {"friction_relaxation": 10.0, "frequency_dependent_modulus": 5.0}
+# geometric scan of the transient size before the root is bracketed (the size is not
+# monotone in the strength: a very slow lag is absorbed by the level after the step)
+_TRANSIENT_SCAN = 24
+
+
+def _check_transient(effect: str) -> None:
+    if effect not in TRANSIENT_STRENGTH_MAX:
+        raise ValueError(
+            f"unknown transient effect {effect!r}; transient effects are "
+            f"{', '.join(TRANSIENT_STRENGTH_MAX)}"
+        )
+
+
+def _transient_levels_residual(
+    angle_deg: np.ndarray, base_deg: np.ndarray, before_deg: float, after_deg: float
+) -> np.ndarray:
+    """Residual of ``angle_deg`` after the least-squares levels of the base's response.
+
+    The base's angle is ``A2 + (A1 - A2) g`` with g = (base - after) / (before - after)
+    (1 before the step, 0 long after), linear in the two levels.
+    """
+    g = (base_deg - after_deg) / (before_deg - after_deg)
+    design = np.stack([g, 1.0 - g], axis=1)
+    levels, *_ = np.linalg.lstsq(design, angle_deg, rcond=None)
+    return angle_deg - design @ levels
+
+
+def transient_effect_size(
+    effect: str, strength: float, *, absorb: str = "levels", **table: float
+) -> float:
+    """RMS change of the angle of a velocity-step record that the base's levels cannot absorb.
+
+    Parameters
+    ----------
+    effect : {"friction_relaxation", "frequency_dependent_modulus"}
+        A transient effect.
+    strength : float
+        Its strength (>= 0; relaxation: tau = strength x ``TAU_REF_S``).
+    absorb : {"levels", "none"}
+        ``"levels"``: what is left after refitting the run's two steady levels (the base
+        parameters of ``TransientProblem``); ``"none"``: the plain change.
+    **table
+        Keyword arguments of :func:`synthetic.measurements.make_transient_table` (noise
+        excepted), e.g. ``duration_s=0.2``. Give ``duration_s``: by default the record
+        lasts 10 tau, so its length changes with the strength.
+
+    Returns
+    -------
+    float
+        RMS over all samples of the change, divided by |angle before the step| (the
+        reference of the table's relative noise), so size / noise is the multiple of the
+        noise.
+
+    Examples
+    --------
+    >>> transient_effect_size("friction_relaxation", 0.0, duration_s=0.2)
+    0.0
+    >>> 0.03 < transient_effect_size("friction_relaxation", 1.0, duration_s=0.2) < 0.1
+    True
+    """
+    _check_transient(effect)
+    if absorb not in ("levels", "none"):
+        raise ValueError(f"absorb must be 'levels' or 'none', got {absorb!r}")
+    strength = float(strength)
+    if not math.isfinite(strength) or strength < 0:
+        raise ValueError(f"strength must be a finite number >= 0, got {strength!r}")
+    if "noise" in table or "rng" in table or "effects" in table:
+        raise TypeError("transient_effect_size takes no noise, rng or effects argument")
+    if strength == 0.0:
+        return 0.0
+    base = make_transient_table(noise=0.0, **table)
+    eff = make_transient_table(effects={effect: strength}, noise=0.0, **table)
+    if len(eff) != len(base):
+        raise ValueError(
+            "the record's length changes with the strength; give duration_s "
+            f"(got {len(base)} samples without the effect, {len(eff)} with it)"
+        )
+    truth = base.attrs["truth"]
+    before, after = truth["angle_before_deg"], truth["angle_after_deg"]
+    y = eff["angle_deg"].to_numpy(float)
+    y0 = base["angle_deg"].to_numpy(float)
+    change = y - y0 if absorb == "none" else _transient_levels_residual(y, y0, before, after)
+    return float(np.sqrt(np.mean(change**2)) / abs(before))
+
+
+def strength_for_transient_effect_size(
+    effect: str,
+    size: float,
+    *,
+    noise: float = DEFAULT_NOISE,
+    rtol: float = 1e-4,
+    absorb: str = "levels",
+    **table: float,
+) -> float:
+    """Smallest strength of a transient effect whose size is ``size`` times the noise.
+
+    Parameters
+    ----------
+    effect : {"friction_relaxation", "frequency_dependent_modulus"}
+        A transient effect.
+    size : float
+        Wanted effect size as a multiple of ``noise`` (> 0).
+    noise : float
+        Relative noise of the table (std / |angle before the step|).
+    rtol : float
+        Relative tolerance on the strength.
+    absorb, **table
+        As for :func:`transient_effect_size` (``duration_s`` defaults to 0.2 s here, the
+        record after the step of Fig. 5.7).
+
+    Returns
+    -------
+    float
+        The strength: the size is scanned on a geometric grid up to
+        :data:`TRANSIENT_STRENGTH_MAX` and the first crossing refined by Brent's method.
+
+    Raises
+    ------
+    ValueError
+        When the effect cannot reach the size below its largest strength; the message gives
+        the largest size found and where.
+
+    Examples
+    --------
+    >>> s = strength_for_transient_effect_size("friction_relaxation", 3.0, noise=0.01)
+    >>> round(transient_effect_size("friction_relaxation", s, duration_s=0.2) / 0.01, 3)
+    3.0
+    """
+    _check_transient(effect)
+    check_positive("size", size)
+    check_positive("noise", noise)
+    table.setdefault("duration_s", 0.2)
+    target = float(size) * float(noise)
+
+    def size_at(s: float) -> float:
+        return transient_effect_size(effect, s, absorb=absorb, **table)
+
+    top = TRANSIENT_STRENGTH_MAX[effect]
+    grid = top * np.geomspace(1e-4, 1.0, _TRANSIENT_SCAN)
+    lo, best, best_at = 0.0, 0.0, 0.0
+    for s in grid:
+        reached = size_at(float(s))
+        if reached >= target:
+            return float(
+                scipy.optimize.brentq(
+                    lambda x: size_at(x) - target, lo, float(s), rtol=rtol, xtol=1e-9
+                )
+            )
+        if reached > best:
+            best, best_at = reached, float(s)
+        lo = float(s)
+    raise ValueError(
+        f"{effect} cannot reach effect size {size:g} x noise {noise:g} = {target:.4g} on this "
+        f"record: at most {best:.4g} (strength {best_at:.4g}"
+        + (f", tau {best_at * TAU_REF_S * 1e3:.3g} ms" if effect == "friction_relaxation" else "")
+        + f") up to strength {top:g}"
     )
