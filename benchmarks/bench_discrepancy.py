@@ -8,7 +8,10 @@ worker processes; prints both times and their ratio. Target: < 60 s on 2 cores.
 ``--full``: the confusion matrix over hidden effects (six + none) x noise (1, 5, 10 %) x
 effect size (0.5, 3, 10) x seeds, and recovery rates. Transient effects need
 ``friction_model.discrepancy.transient``; without it they are reported as skipped.
-Combinations an effect cannot reach on the grid are reported as unreachable.
+Combinations an effect cannot reach on the grid, or only with a strength beyond the
+candidate's upper bound (``SteadyProblem.parameter_bounds``: humidity's layer would pass
+the critical film, a viscous shear many times that of water), are reported as unreachable
+and not run.
 
 Effect sizes: steady, :func:`synthetic.effect_size.strength_for_effect_size` (the RMS
 change the base's factor on mu cannot absorb); transient,
@@ -119,6 +122,18 @@ def transient_cap(effect: str) -> tuple[float, float]:
     return float(sizes[k]), float(strengths[k])
 
 
+def steady_bound(effect: str) -> float:
+    """Upper bound of the steady candidate's strength on GRID (SteadyProblem.parameter_bounds:
+    the library bound, or the physical limit of the table, e.g. humidity's critical film)."""
+    if effect not in _BOUNDS:
+        problem = SteadyProblem(make_steady_table(GRID, rng=0))
+        _BOUNDS.update({e: problem.parameter_bounds(e)[0][1] for e in DRY_WET_EFFECTS})
+    return _BOUNDS[effect]
+
+
+_BOUNDS: dict[str, float] = {}
+
+
 def _one_run(args: tuple) -> dict:
     """One table with `effect` hidden at `strength`, through the workflow (a worker task)."""
     from friction_model.discrepancy import TransientProblem
@@ -189,6 +204,11 @@ def full(n_seeds: int, workers: int, only: list[str] | None = None) -> None:
                             continue
                         cap, strength = transient_cap(effect)
                         cell = round(cap / noise, 2)  # the cell at the effect's cap
+                    if not is_transient and effect != "none" and strength > steady_bound(effect):
+                        print(f"{label:24s} noise {noise:4.2f} size {size:4.1f}: unreachable "
+                              f"within the candidate's bounds (needs strength {strength:.4g} > "
+                              f"{steady_bound(effect):.4g})", flush=True)
+                        continue
                     tasks = [(effect, strength, noise, seed, is_transient)
                              for seed in range(n_seeds)]
                     runs = list(pool.map(_one_run, tasks) if pool else map(_one_run, tasks))
