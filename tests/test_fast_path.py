@@ -1,9 +1,11 @@
 """The fast per-frame path of the TIR analysis against its plain definitions.
 
 Truths: ``np.percentile`` for the sorting-network reference, the float32 darkness of the
-normaliser for the raw grey-value threshold (pixel for pixel), scikit-image's labelling and
-small-object removal for the region labelling, and the plain full-frame path of
-``analyze_video`` for the whole analysis (the fast path must give the same tables).
+normaliser for the raw grey-value threshold (pixel for pixel) and for the box darkness (bit
+for bit), scikit-image's labelling and small-object removal for the region labelling, numpy
+sums for the box and line counts, the plain numpy scoring for the template fit, and the plain
+full-frame path of ``analyze_video`` for the whole analysis (the fast path must give the
+same tables).
 """
 
 from __future__ import annotations
@@ -19,7 +21,14 @@ from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.calibrate import Reference
-from tir_contact.segment import contact_box, label_contact
+from tir_contact.features import _fit_offset
+from tir_contact.segment import (
+    _box_and_counts,
+    _may_hold_small,
+    contact_box,
+    estimate_contrast,
+    label_contact,
+)
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 5, 8, 17, 32, 33, 64])
@@ -115,3 +124,121 @@ def test_fast_path_gives_the_plain_paths_tables(clip, monkeypatch, regions):
     pd.testing.assert_frame_equal(fast.elements, plain.elements)
     if regions == "always":
         pd.testing.assert_frame_equal(fast.regions, plain.regions)
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.uint32, np.float32])
+@pytest.mark.parametrize("contact_is", ["dark", "bright"])
+def test_box_darkness_follows_moving_boxes_bit_for_bit(dtype, contact_is):
+    # OpenCV's multiply and add into the image view against the normaliser's own float32
+    # arithmetic (bit for bit), and the partial clearing of the previous box (NaN outside)
+    rng = np.random.default_rng(5)
+    top = np.iinfo(dtype).max if np.issubdtype(dtype, np.integer) else 4095.0
+    ref = rng.uniform(0.5, top, (23, 37))
+    norm = Normaliser(Reference(ref, ref > 0.2 * np.median(ref), "test", 1), contact_is)
+    box = BoxDarkness(norm, ref.shape)
+    for _ in range(60):
+        if np.issubdtype(dtype, np.integer):
+            frame = rng.integers(0, top, ref.shape, dtype=dtype, endpoint=True)
+        else:
+            frame = rng.uniform(0, top, ref.shape).astype(dtype)
+        r0, r1 = np.sort(rng.integers(0, 24, 2)) + np.array([0, 1])
+        c0, c1 = np.sort(rng.integers(0, 38, 2)) + np.array([0, 1])
+        rows, cols = slice(int(r0), int(min(r1, 23))), slice(int(c0), int(min(c1, 37)))
+        image = box.fill(frame, rows, cols)
+        expected = np.full(ref.shape, np.nan, np.float32)
+        expected[rows, cols] = norm(frame)[rows, cols]
+        np.testing.assert_array_equal(image.view(np.uint32), expected.view(np.uint32))
+
+
+def test_box_and_counts_are_the_box_and_line_sums():
+    rng = np.random.default_rng(3)
+    for trial in range(200):
+        raw = rng.random(tuple(rng.integers(1, 30, 2))) < rng.uniform(0.0, 0.3)
+        box, counts = _box_and_counts(raw)
+        cols = np.flatnonzero(raw.any(axis=0))
+        if cols.size == 0:
+            assert box is None and counts is None
+            continue
+        rows = np.flatnonzero(raw.any(axis=1))
+        assert box == (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+        np.testing.assert_array_equal(counts[0], raw.sum(axis=0), err_msg=f"trial {trial}")
+        np.testing.assert_array_equal(counts[1], raw.sum(axis=1), err_msg=f"trial {trial}")
+        # the counts handed to the contact hold only when no region was dropped
+        contact = label_contact(raw, 0.5, min_area_px=3)
+        np.testing.assert_array_equal(contact.line_counts[0], contact.mask.sum(axis=0))
+        np.testing.assert_array_equal(contact.line_counts[1], contact.mask.sum(axis=1))
+
+
+def test_fit_offset_matches_the_plain_numpy_scoring():
+    # the scoring as first written (one (K, N, J) array, np.concatenate of the candidates)
+    def plain(starts, ends, fronts, lengths, n_cols, x0_carrier):
+        cands = []
+        j = next((j for j, c in enumerate(starts) if c > 0), None)
+        if j is not None:
+            cands.append(starts[j] - fronts)
+        if ends[0] < n_cols - 1:
+            cands.append(ends[0] + 1.0 - fronts - lengths)
+        if np.isfinite(x0_carrier):
+            cands.append(np.array([x0_carrier]))
+        if not cands:
+            return float(starts[0] - fronts[0])
+        x0 = np.concatenate(cands)[:, None]
+        lo = np.minimum(np.maximum(x0 + fronts, 0.0), n_cols)
+        hi = np.minimum(np.maximum(x0 + fronts + lengths, 0.0), n_cols)
+        s, e = np.asarray(starts, float), np.asarray(ends, float) + 1.0
+        ov = np.minimum(hi[:, :, None], e) - np.maximum(lo[:, :, None], s)
+        overlap = np.maximum(ov, 0.0).sum(axis=(1, 2))
+        cost = (0.25 * ((hi - lo).sum(axis=1) - overlap) - overlap).tolist()
+        best = min(cost) + 0.5
+        tied = [x for x, c in zip(x0[:, 0].tolist(), cost, strict=True) if c <= best]
+        if len(tied) > 1 and np.isfinite(x0_carrier):
+            return min(tied, key=lambda x: abs(x - x0_carrier))
+        return tied[0]
+
+    rng = np.random.default_rng(9)
+    for _ in range(500):
+        n_el = int(rng.integers(1, 6))
+        lengths = rng.uniform(5, 60, n_el)
+        fronts = np.concatenate([[0.0], np.cumsum(lengths[:-1] + rng.uniform(0, 8))])
+        n_cols = int(rng.integers(40, 300))
+        cuts = np.sort(rng.choice(np.arange(n_cols + 1), 2 * int(rng.integers(1, 5)),
+                                  replace=False))
+        starts, ends = cuts[0::2].tolist(), (cuts[1::2] - 1).tolist()
+        keep = [k for k in range(len(starts)) if ends[k] >= starts[k]]
+        starts, ends = [starts[k] for k in keep], [ends[k] for k in keep]
+        if not starts:
+            continue
+        carrier = float(rng.uniform(-50, n_cols)) if rng.random() < 0.7 else np.nan
+        got = _fit_offset(starts, ends, fronts, lengths, n_cols, carrier)
+        assert got == plain(starts, ends, fronts, lengths, n_cols, carrier)
+
+
+def test_small_region_shortcut_is_the_neighbour_count_test():
+    # True exactly when some set pixel sees fewer than min_area set pixels in its 3 x 3
+    # neighbourhood (zero padding), for every min_area the shortcut handles
+    from scipy import ndimage
+
+    rng = np.random.default_rng(4)
+    for trial in range(300):
+        sub = (rng.random(tuple(rng.integers(1, 20, 2))) < rng.uniform(0.05, 0.95))
+        sub = sub.astype(np.uint8)
+        nb = ndimage.convolve(sub.astype(int), np.ones((3, 3), int), mode="constant")
+        for min_area in range(2, 10):
+            expected = bool(np.any((nb < min_area) & (sub > 0)))
+            assert _may_hold_small(sub, min_area) == expected, (trial, min_area)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_estimate_contrast_is_the_median_of_the_finite_dark_pixels(dtype):
+    rng = np.random.default_rng(8)
+    for trial in range(200):
+        d = rng.uniform(-1, 1.5, tuple(rng.integers(1, 30, 2))).astype(dtype)
+        m = rng.random(d.shape)
+        d[m < 0.05] = np.nan
+        d[(m > 0.05) & (m < 0.08)] = np.inf
+        d[(m > 0.08) & (m < 0.1)] = -np.inf
+        min_darkness = float(rng.choice([0.25, 0.0, -np.inf, np.nan, 2.0]))
+        dark = d[np.isfinite(d) & (d > min_darkness)]
+        expected = float(np.median(dark)) if dark.size else np.nan
+        got = estimate_contrast(d, min_darkness=min_darkness)
+        assert (np.isnan(expected) and np.isnan(got)) or got == expected, trial

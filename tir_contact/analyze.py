@@ -30,18 +30,19 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 import pandas as pd
 
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
-from tir_contact.features import EDGE_MARGIN_PX, BlockLayout, tir_frame_records
+from tir_contact.features import EDGE_MARGIN_PX, ELEMENT_DTYPE, BlockLayout, _frame_rows
 from tir_contact.meta import clip_footage
 from tir_contact.segment import (
-    contact_box,
+    _box_and_counts,
+    _label_box,
     estimate_contrast,
-    label_contact,
     segment_frame,
 )
 from tir_contact.side import ice_line_y_px, side_darkness, side_frame_features
@@ -401,8 +402,8 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
 
 
 def _fully_in_view(front_mm: float, setup: _Setup, margin_mm: float = 0.5) -> bool:
-    if not np.isfinite(front_mm) or setup.layout.element_lengths_mm is None:
-        return bool(np.isfinite(front_mm))
+    if not math.isfinite(front_mm) or setup.layout.element_lengths_mm is None:
+        return math.isfinite(front_mm)
     total = setup.layout.block_length_mm
     width_mm = setup.shape[1] * setup.mm_per_px
     back = front_mm + total if setup.layout.sliding_direction == "left" else front_mm - total
@@ -429,6 +430,9 @@ class _FrameAnalyser:
         if setup.contrast is not None and math.isfinite(setup.contrast):
             self._threshold = max(0.5 * setup.contrast, 0.5 * options.min_darkness)
         self._raw_tests: dict[str, RawContactTest | None] = {}  # by dtype character
+        self._last_test: tuple[np.dtype, RawContactTest | None] | None = None
+        self._raw_buf: np.ndarray | None = None
+        self._sums: tuple | None = None  # column sums of the last box darkness (fast path)
         self._box = (
             BoxDarkness(self.normalise, setup.shape)
             if self.normalise is not None and setup.view == "tir"
@@ -445,46 +449,65 @@ class _FrameAnalyser:
     def _raw_test(self, frame: np.ndarray) -> RawContactTest | None:
         if self._box is None or not math.isfinite(self._threshold):
             return None
+        last = self._last_test
+        if last is not None and last[0] is frame.dtype:  # the usual case: the same dtype
+            return last[1]
         test = self._raw_tests.get(frame.dtype.char, False)
         if test is False:
             test = RawContactTest.build(self.normalise, self._threshold, frame.dtype)
             self._raw_tests[frame.dtype.char] = test
+        self._last_test = (frame.dtype, test)
         return test
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray, Any]:
         """Darkness, valid mask and contact of a TIR frame."""
         test = self._raw_test(frame)
-        raw = test(frame) if test is not None else None
+        raw = None
+        self._sums = None
+        if test is not None:  # into one reused buffer: `raw` does not outlive the frame
+            if self._raw_buf is None or self._raw_buf.shape != frame.shape:
+                self._raw_buf = np.empty(frame.shape, np.bool_)
+            raw = test(frame, out=self._raw_buf)
         if raw is None:
             d, valid = self.darkness(frame)
             contact = segment_frame(d, contrast=self.setup.contrast,
                                     min_darkness=self.options.min_darkness,
                                     min_area_px=self.options.min_area_px)
             return d, valid, contact
-        box = contact_box(raw)
+        box, counts = _box_and_counts(raw)
         if box is None:
             d = self._box.clear()
         else:  # the rows and (widened) columns the features read
+            rows = box[0]
             cols = slice(max(box[1].start - EDGE_MARGIN_PX, 0),
                          min(box[1].stop + EDGE_MARGIN_PX, raw.shape[1]))
-            d = self._box.fill(frame, box[0], cols)
-        contact = label_contact(raw, self._threshold, d, min_area_px=self.options.min_area_px,
-                                box=box)
+            d = self._box.fill(frame, rows, cols)
+            # the features' column sums, while the darkness is still in the cache
+            self._sums = (rows.start, rows.stop, cols.start, cv2.reduce(
+                d[rows, cols], 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel())
+        contact = _label_box(raw, self._threshold, d, self.options.min_area_px, box, counts)
         return d, self.normalise.valid, contact
 
     def tir(self, k: int, frame: np.ndarray) -> tuple[dict, np.ndarray, dict | None, Any]:
+        row, el_rows, regions, contact = self.tir_rows(k, frame)
+        return row, _records(el_rows), regions, contact
+
+    def tir_rows(self, k: int, frame: np.ndarray) -> tuple[dict, list[tuple], dict | None, Any]:
+        """:meth:`tir` with the elements as tuples of the fields of ``ELEMENT_DTYPE``."""
         s = self.setup
         t = k / s.fps
         d, valid, contact = self.segment(frame)
-        row, rec = tir_frame_records(d, contact, s.layout, valid=valid, time_s=t)
-        row = {"frame": k, "time_s": t, **row, "n_regions": contact.n_regions}
-        row["block_fully_in_view"] = bool(row.get("block_in_view")) and _fully_in_view(
-            row.get("block_front_x_mm", np.nan), s)
+        row, el_rows = _frame_rows(d, contact, s.layout, valid, t, 1.0, self._sums)
+        row["frame"] = k
+        row["time_s"] = t
+        row["n_regions"] = contact.n_regions
+        row["block_fully_in_view"] = row["block_in_view"] and _fully_in_view(
+            row["block_front_x_mm"], s)
         regions = None
         if self.want_regions:
             regions = contact.region_arrays()
             regions["frame"] = np.full(contact.n_regions, k)
-        return row, rec, regions, contact
+        return row, el_rows, regions, contact
 
     def side(self, k: int, frame: np.ndarray) -> tuple[dict, pd.DataFrame, Any]:
         s = self.setup
@@ -526,15 +549,24 @@ def _element_frame(el: Any, k: int, fps: float) -> pd.DataFrame:
     return df
 
 
-def _records_table(records: list[np.ndarray], frames: list[np.ndarray],
-                   fps: float) -> pd.DataFrame:
-    """The elements table from the per-frame record arrays, built once."""
-    if not records:
+def _records(rows: list[tuple]) -> np.ndarray:
+    """Element tuples (fields of ``ELEMENT_DTYPE``) as a record array."""
+    rec = np.zeros(len(rows), ELEMENT_DTYPE)
+    if rows:
+        rec[:] = rows
+    return rec
+
+
+def _records_table(rows: list[tuple], frames: list[int], fps: float) -> pd.DataFrame:
+    """The elements table from the element tuples of every frame, built once."""
+    if not rows:
         return pd.DataFrame(columns=ELEMENT_COLUMNS)
-    rec = np.concatenate(records)
-    frame = np.concatenate(frames)
+    rec = _records(rows)
+    frame = np.array(frames, dtype=np.int64)
     data = {"frame": frame, "time_s": frame / fps}
     data.update({name: rec[name] for name in rec.dtype.names})
+    if set(data) == set(ELEMENT_COLUMNS):
+        return pd.DataFrame({c: data[c] for c in ELEMENT_COLUMNS})
     return _reorder(pd.DataFrame(data), ELEMENT_COLUMNS)
 
 
@@ -556,25 +588,39 @@ def _regions_table(regions: list[dict], setup: _Setup) -> pd.DataFrame:
 
 
 def _steady(frames: pd.DataFrame, elements: pd.DataFrame) -> dict[str, Any]:
-    """Means and standard deviations over the frames with the whole block in view."""
-    full = frames[frames["block_fully_in_view"].astype(bool)]
-    out: dict[str, Any] = {"n_frames": len(full)}
+    """Means and standard deviations over the frames with the whole block in view.
+
+    Each mean and standard deviation is pandas' own (``Series.mean``, ``Series.std``) of
+    the selected values, without building the selected tables and groups.
+    """
+    full = frames["block_fully_in_view"].to_numpy().astype(bool)
+    out: dict[str, Any] = {"n_frames": int(full.sum())}
     for col in ("contact_area_mm2", "contact_ratio", "front_peak_contrast",
                 "deflection_angle_deg", "tip_deflection_mm"):
-        if col in full and full[col].notna().any():
-            out[col] = {"mean": float(full[col].mean()), "std": float(full[col].std(ddof=1))
-                        if full[col].notna().sum() > 1 else 0.0}
-    if len(full) and len(elements):
-        sel = elements[elements["frame"].isin(full["frame"])]
+        if col not in frames:
+            continue
+        values = pd.Series(frames[col].to_numpy()[full])
+        finite = int(values.notna().sum())
+        if finite:
+            out[col] = {"mean": float(values.mean()),
+                        "std": float(values.std(ddof=1)) if finite > 1 else 0.0}
+    if out["n_frames"] and len(elements):
+        frame_no = elements["frame"].to_numpy()
+        sel = np.isin(frame_no, frames["frame"].to_numpy()[full])
+        element = elements["element"].to_numpy()
+        columns = [c for c in ("contact_area_mm2", "contact_length_mm", "front_peak_contrast",
+                               "liftoff_mm", "deflection_angle_deg", "tip_deflection_mm",
+                               "front_peak_width_mm") if c in elements]
+        arrays = {c: elements[c].to_numpy() for c in columns}
         per = {}
-        for element, grp in sel.groupby("element"):
-            per[str(int(element))] = {
-                col: float(grp[col].mean())
-                for col in ("contact_area_mm2", "contact_length_mm", "front_peak_contrast",
-                            "liftoff_mm", "deflection_angle_deg", "tip_deflection_mm",
-                            "front_peak_width_mm")
-                if col in grp and grp[col].notna().any()
-            }
+        for e in np.unique(element[sel]):  # ascending, as groupby
+            rows = sel & (element == e)
+            means = {}
+            for col in columns:
+                values = pd.Series(arrays[col][rows])
+                if values.notna().any():
+                    means[col] = float(values.mean())
+            per[str(int(e))] = means
         out["elements"] = per
     return out
 
@@ -664,8 +710,8 @@ def analyze_video(
         analyser = _FrameAnalyser(setup, options)
         rows: list[dict] = []
         elements: list[pd.DataFrame] = []
-        records: list[np.ndarray] = []
-        record_frames: list[np.ndarray] = []
+        el_rows: list[tuple] = []  # TIR element records, as tuples (one array at the end)
+        el_frames: list[int] = []
         regions: list[dict] = []
         skipped = list(setup.skipped)
         bad = {s["frame"] for s in skipped}
@@ -676,25 +722,31 @@ def analyze_video(
         )
         bar = tqdm(total=setup.n_frames, desc=name, unit="frame", leave=False,
                    disable=progress is False, position=progress_position, dynamic_ncols=True)
+        tick = None if bar.disable else bar.update
+        get_frame = reader.get_frame
+        tir = analyser.tir_rows if setup.view == "tir" else None
         try:
             for k in range(setup.n_frames):
-                bar.update(1)
+                if tick is not None:
+                    tick(1)
                 if k in bad:
                     continue
                 try:
-                    frame = reader.get_frame(k)
+                    frame = get_frame(k)
                 except FootageError as exc:
                     skipped.append({"frame": k, "reason": str(exc)})
                     logger.warning("%s", exc)
                     continue
-                if setup.view == "tir":
-                    row, el, reg, contact = analyser.tir(k, frame)
+                if tir is not None:
+                    row, el, reg, contact = tir(k, frame)
                     if reg is not None:
                         regions.append(reg)
                     extra = contact
-                    if len(el):
-                        records.append(el)
-                        record_frames.append(np.full(len(el), k))
+                    if el:
+                        el_rows += el
+                        el_frames += [k] * len(el)
+                    if video is not None:
+                        el = _records(el)
                 else:
                     row, el, extra = analyser.side(k, frame)
                     elements.append(el)
@@ -706,9 +758,12 @@ def analyze_video(
             if video is not None:
                 video.close()
         elapsed = time.perf_counter() - t0
-        frames_df = _reorder(pd.DataFrame(rows), FRAME_COLUMNS)
+        if setup.view == "tir" and rows:  # rows with exactly FRAME_COLUMNS: built by column
+            frames_df = pd.DataFrame({c: [r[c] for r in rows] for c in FRAME_COLUMNS})
+        else:
+            frames_df = _reorder(pd.DataFrame(rows), FRAME_COLUMNS)
         if setup.view == "tir":
-            elements_df = _records_table(records, record_frames, setup.fps)
+            elements_df = _records_table(el_rows, el_frames, setup.fps)
         else:
             elements_df = _concat(elements, ELEMENT_COLUMNS)
         regions_df = _regions_table(regions, setup) if analyser.want_regions else None

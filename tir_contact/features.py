@@ -96,10 +96,12 @@ Image x in mm from the left image edge: pixel column ``c`` covers ``[c, c + 1) *
 centre at ``(c + 0.5) * mm_per_px`` (the convention of :mod:`synthetic.footage`). Element 0
 leads in the sliding direction.
 
-Speed: about 0.1 to 0.2 ms per 640 x 256 frame for :func:`tir_frame_records` (column sums by
-OpenCV, a few dozen scalar operations per element); :func:`tir_frame_features` adds the
-construction of the small elements DataFrame (a further ~0.1 ms). Batch code should call
-:func:`tir_frame_records` and build one DataFrame at the end.
+Speed: about 0.1 ms per 640 x 256 frame for :func:`tir_frame_records` (column sums by
+OpenCV, the per-column and per-row contact counts taken from the segmentation, the template
+scored for all candidate offsets in one numpy array, a few dozen scalar operations per
+element); :func:`tir_frame_features` adds the construction of the small elements DataFrame
+(a further ~0.1 ms). Batch code should call :func:`tir_frame_records` and build one
+DataFrame at the end.
 """
 
 from __future__ import annotations
@@ -360,6 +362,12 @@ class BlockLayout:
         lengths = np.asarray(self.element_lengths_mm or (), dtype=float) / self.mm_per_px
         return fronts, lengths
 
+    @functools.cached_property
+    def _template_lists(self) -> tuple[list[float], list[float], list[float]]:
+        """:attr:`_template_px` as lists, and a quarter of each length (the split limit)."""
+        fronts, lengths = self._template_px
+        return fronts.tolist(), lengths.tolist(), (0.25 * lengths).tolist()
+
 
 @dataclass(frozen=True)
 class FrameFeatures:
@@ -379,30 +387,31 @@ class FrameFeatures:
 
 
 # -- profiles ---------------------------------------------------------------------------------
-def _column_counts(contact: FrameContact) -> tuple[np.ndarray, np.ndarray]:
-    """Contact pixels per column and per row of the frame (int arrays)."""
-    import cv2
-
-    n_rows, n_cols = contact.shape
-    cols = np.zeros(n_cols, np.int32)
-    rows = np.zeros(n_rows, np.int32)
-    if contact.box is None:
-        return cols, rows
-    r, c = contact.box
-    m8 = (contact.box_labels > 0).view(np.uint8)
-    cols[c] = cv2.reduce(m8, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
-    rows[r] = cv2.reduce(m8, 1, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
-    return cols, rows
+#: Column sums of the darkness known beforehand: (r0, r1, c0, sums of rows r0..r1-1 for
+#: columns c0, c0 + 1, ...), as OpenCV's reduction gives them (each column on its own).
+ColumnSums = tuple[int, int, int, np.ndarray]
 
 
-def _column_mean(d: np.ndarray, r0: int, r1: int, c0: int, c1: int) -> np.ndarray:
-    """Mean of `d` over rows r0..r1-1 for columns c0..c1-1, ignoring NaN."""
+def _column_mean(d: np.ndarray, r0: int, r1: int, c0: int, c1: int,
+                 sums: ColumnSums | None = None) -> np.ndarray:
+    """Mean of `d` over rows r0..r1-1 for columns c0..c1-1, ignoring NaN.
+
+    `sums`, when it covers these rows and columns, spares the summation (the sums of the
+    fast path, taken while the darkness was still in the cache).
+    """
     import cv2
 
     sub = d[r0:r1, c0:c1]
     if sub.dtype != np.float32:
         sub = sub.astype(np.float32)
-    out = cv2.reduce(sub, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel() / np.float32(r1 - r0)
+    if (sums is not None and sums[0] == r0 and sums[1] == r1 and sums[2] <= c0
+            and c1 - sums[2] <= sums[3].size and sums[3].dtype == np.float32):
+        total = sums[3][c0 - sums[2] : c1 - sums[2]]
+    else:
+        total = cv2.reduce(sub, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel()
+    out = total / np.float32(r1 - r0)
+    if math.isfinite(np.add.reduce(out)):  # every column finite (one sum, not a mask)
+        return out
     bad = ~np.isfinite(out)
     if bad.any():  # columns with excluded pixels: mean over the finite ones
         cols = np.flatnonzero(bad)
@@ -410,6 +419,26 @@ def _column_mean(d: np.ndarray, r0: int, r1: int, c0: int, c1: int) -> np.ndarra
         cnt = np.isfinite(block).sum(axis=0)
         out[cols] = np.nansum(block, axis=0) / np.maximum(cnt, 1)
     return out
+
+
+def _tight_box(box: tuple[slice, slice] | None, counts: np.ndarray,
+               row_counts: np.ndarray) -> tuple[int, int, int, int] | None:
+    """(r0, r1, c0, c1) of `box` when its first and last rows and columns hold contact.
+
+    The counts are zero outside the box, so such a box is the tight one; None otherwise
+    (the caller then searches the counts).
+    """
+    if box is None:
+        return None
+    rows, cols = box
+    r0, r1, c0, c1 = rows.start, rows.stop, cols.start, cols.stop
+    if not (type(r0) is int and type(r1) is int and type(c0) is int and type(c1) is int
+            and rows.step is None and cols.step is None
+            and 0 <= r0 < r1 <= row_counts.size and 0 <= c0 < c1 <= counts.size):
+        return None
+    if counts[c0] and counts[c1 - 1] and row_counts[r0] and row_counts[r1 - 1]:
+        return r0, r1, c0, c1
+    return None
 
 
 def _masked_column_mean(d: np.ndarray, mask: np.ndarray, counts: np.ndarray,
@@ -420,16 +449,15 @@ def _masked_column_mean(d: np.ndarray, mask: np.ndarray, counts: np.ndarray,
     return s / np.maximum(counts[c0:c1], 1)
 
 
-def _runs(on: np.ndarray) -> tuple[list[int], list[int]]:
-    """First and last index of each run of True in `on`."""
-    change = (on[1:] != on[:-1]).nonzero()[0] + 1
-    starts = change[~on[change - 1]].tolist()
-    ends = (change[on[change - 1]] - 1).tolist()
-    if on[0]:
-        starts.insert(0, 0)
-    if on[-1]:
-        ends.append(on.size - 1)
-    return starts, ends
+def _half_runs(counts: np.ndarray, c_lo: int, c_hi: int) -> tuple[list[int], list[int]]:
+    """First and last column of each run of ``counts >= max / 2`` (only c_lo..c_hi-1 hold
+    counts)."""
+    seg = counts[c_lo:c_hi]
+    on = np.zeros(c_hi - c_lo + 2, np.bool_)  # padded with False at both ends
+    # n >= max / 2 for integers n, max: n >= ceil(max / 2), compared in the counts' dtype
+    np.greater_equal(seg, (int(np.maximum.reduce(seg)) + 1) // 2, out=on[1:-1])
+    change = (np.not_equal(on[1:], on[:-1]).nonzero()[0] + c_lo).tolist()
+    return change[0::2], [c - 1 for c in change[1::2]]
 
 
 # -- edges and peak on a profile list ---------------------------------------------------------
@@ -447,7 +475,8 @@ def _front_edge(p: list[float], c0: int, c1: int, level: float) -> float:
         return 0.0
     lo, hi = p[j - 1], p[j]
     t = (level - lo) / (hi - lo) if hi > lo else 0.5
-    return j - 0.5 + min(max(t, 0.0), 1.0)
+    t = 0.0 if t < 0.0 else t  # min(max(t, 0.0), 1.0), spelled out (no builtin calls)
+    return j - 0.5 + (1.0 if t > 1.0 else t)
 
 
 def _back_edge(p: list[float], c0: int, c1: int, level: float, n: int) -> float:
@@ -464,7 +493,8 @@ def _back_edge(p: list[float], c0: int, c1: int, level: float, n: int) -> float:
         return float(n)
     hi, lo = p[j], p[j + 1]
     t = (hi - level) / (hi - lo) if hi > lo else 0.5
-    return j + 0.5 + min(max(t, 0.0), 1.0)
+    t = 0.0 if t < 0.0 else t  # min(max(t, 0.0), 1.0), spelled out (no builtin calls)
+    return j + 0.5 + (1.0 if t > 1.0 else t)
 
 
 def _median(values: list[float]) -> float:
@@ -490,7 +520,9 @@ def _front_peak(p: list[float], c0: int, c1: int, window_px: float) -> tuple[flo
         y0, y2 = p[k - 1], p[k + 1]
         den = y0 - 2.0 * best + y2
         if den < 0:
-            pos += min(max(0.5 * (y0 - y2) / den, -0.5), 0.5)
+            shift = 0.5 * (y0 - y2) / den
+            shift = -0.5 if shift < -0.5 else shift  # min(max(shift, -0.5), 0.5)
+            pos += 0.5 if shift > 0.5 else shift
     behind = p[c0 + w : c1]  # without the back edge column
     if len(behind) < 2:
         return pos, _NAN, _NAN
@@ -519,37 +551,52 @@ def _fit_offset(
     lengths: np.ndarray,
     n_cols: int,
     x0_carrier: float,
+    fronts_l: list[float] | None = None,
+    lengths_l: list[float] | None = None,
 ) -> float:
     """Block-front offset (px, mirrored frame) that best matches the runs to the template.
 
     Runs are columns ``starts[j] .. ends[j]`` (inclusive); a run starting at column 0 has no
-    known front, one ending at the last column no known back.
+    known front, one ending at the last column no known back. `fronts_l` and `lengths_l`
+    are `fronts` and `lengths` as lists (made here when not given).
     """
-    cands = []
-    j = next((j for j, c in enumerate(starts) if c > 0), None)
-    if j is not None:
-        cands.append(starts[j] - fronts)
+    if fronts_l is None or lengths_l is None:
+        fronts_l, lengths_l = fronts.tolist(), lengths.tolist()
+    x0_list: list[float] = []
+    for c in starts:
+        if c > 0:
+            x0_list += [c - f for f in fronts_l]
+            break
     if ends[0] < n_cols - 1:
-        cands.append(ends[0] + 1.0 - fronts - lengths)
-    if math.isfinite(x0_carrier):
-        cands.append(np.array([x0_carrier]))
-    if not cands:  # one run clipped at both borders: any element may fill the view
-        return float(starts[0] - fronts[0])
-    x0 = np.concatenate(cands)[:, None]
-    # (K, N) template clipped to the image (np.minimum/maximum: np.clip costs 5x more here)
-    lo = np.minimum(np.maximum(x0 + fronts, 0.0), n_cols)
-    hi = np.minimum(np.maximum(x0 + fronts + lengths, 0.0), n_cols)
-    s = np.asarray(starts, float)
-    e = np.asarray(ends, float) + 1.0
-    ov = np.minimum(hi[:, :, None], e) - np.maximum(lo[:, :, None], s)  # (K, N, J)
+        e0 = ends[0] + 1.0
+        x0_list += [e0 - f - n for f, n in zip(fronts_l, lengths_l, strict=True)]
+    carrier = math.isfinite(x0_carrier)
+    if carrier:
+        x0_list.append(x0_carrier)
+    if not x0_list:  # one run clipped at both borders: any element may fill the view
+        return float(starts[0] - fronts_l[0])
+    # (K, N) template clipped to the image, lo and hi in one array (np.minimum/maximum:
+    # np.clip costs 5x more here); the element-wise steps round as ``x0 + fronts`` and
+    # ``x0 + fronts + lengths`` do
+    x0 = np.array(x0_list)
+    lohi = np.empty((2, x0.size, len(fronts_l)))
+    np.add(x0[:, None], fronts, out=lohi[0])
+    np.add(lohi[0], lengths, out=lohi[1])
+    np.maximum(lohi, 0.0, out=lohi)
+    np.minimum(lohi, n_cols, out=lohi)
+    lo, hi = lohi
+    ov = np.minimum(hi[:, :, None], np.array([c + 1.0 for c in ends]))  # (K, N, J)
+    np.subtract(ov, np.maximum(lo[:, :, None], np.array(starts, float)), out=ov)
     # Contact outside every element face costs fully, face without contact (lift-off, or an
     # element template over an empty part of the view) a quarter: a face may lose more than
     # half its contact to lift-off and must still be preferred over no face at all.
-    overlap = np.maximum(ov, 0.0).sum(axis=(1, 2))
-    cost = (_EMPTY_FACE_WEIGHT * ((hi - lo).sum(axis=1) - overlap) - overlap).tolist()
+    # (np.add.reduce is what ndarray.sum calls, without the wrapper)
+    overlap = np.add.reduce(np.maximum(ov, 0.0, out=ov), axis=(1, 2)).tolist()
+    face = np.add.reduce(hi - lo, axis=1).tolist()
+    cost = [_EMPTY_FACE_WEIGHT * (f - o) - o for f, o in zip(face, overlap, strict=True)]
     best = min(cost) + 0.5
-    tied = [x for x, c in zip(x0[:, 0].tolist(), cost, strict=True) if c <= best]
-    if len(tied) > 1 and math.isfinite(x0_carrier):
+    tied = [x for x, c in zip(x0_list, cost, strict=True) if c <= best]
+    if len(tied) > 1 and carrier:
         return min(tied, key=lambda x: abs(x - x0_carrier))  # first of equals, as argmin
     return tied[0]
 
@@ -558,56 +605,69 @@ def _assign(
     starts: list[int],
     ends: list[int],
     x0: float,
-    fronts: np.ndarray,
-    lengths: np.ndarray,
+    fronts: list[float],
+    lengths: list[float],
+    quarters: list[float],
     sipe_px: float,
 ) -> list[tuple[int, int, int, bool, bool]]:
-    """(element, c0, c1, split_front, split_back) per (sub-)run; c1 inclusive."""
-    t_lo = x0 + fronts
-    t_hi = t_lo + lengths
-    s = np.asarray(starts, float)[:, None]
-    e = np.asarray(ends, float)[:, None] + 1.0
-    ov = np.minimum(t_hi, e) - np.maximum(t_lo, s)  # (J, N)
-    best = ov.argmax(axis=1).tolist()
-    n_big = (ov > 0.25 * lengths).sum(axis=1).tolist()
+    """(element, c0, c1, split_front, split_back) per (sub-)run; c1 inclusive.
+
+    `quarters` holds ``0.25 * lengths``; plain floats, as the element-wise numpy operations
+    would round them.
+    """
+    t_lo = [x0 + f for f in fronts]
+    t_hi = [a + n for a, n in zip(t_lo, lengths, strict=True)]
+    elements = range(len(fronts))
     out: list[tuple[int, int, int, bool, bool]] = []
-    for j, (c0, c1) in enumerate(zip(starts, ends, strict=True)):
-        if n_big[j] >= 2:  # a run across a closed sipe: split at the sipe centres
-            big = np.flatnonzero(ov[j] > 0.25 * lengths)
+    for c0, c1 in zip(starts, ends, strict=True):
+        s, e = float(c0), float(c1) + 1.0
+        ov = [(h if h < e else e) - (a if a > s else s) for a, h in zip(t_lo, t_hi, strict=True)]
+        big = [i for i in elements if ov[i] > quarters[i]]
+        if len(big) >= 2:  # a run across a closed sipe: split at the sipe centres
             cuts = [c0]
             for i in big[1:]:
-                cut = round(float(t_lo[i]) - 0.5 * sipe_px)
+                cut = round(t_lo[i] - 0.5 * sipe_px)
                 cuts.append(min(max(cut, cuts[-1] + 1), c1 + 1))
             cuts.append(c1 + 1)
-            for n_i, i in enumerate(big.tolist()):
+            for n_i, i in enumerate(big):
                 lo_c, hi_c = cuts[n_i], cuts[n_i + 1] - 1
                 if hi_c >= lo_c:
-                    out.append((i, lo_c, hi_c, n_i > 0, n_i < big.size - 1))
+                    out.append((i, lo_c, hi_c, n_i > 0, n_i < len(big) - 1))
             continue
-        i = best[j]
-        if ov[j, i] <= 0:  # no overlap at all: the nearest element
-            i = int(np.argmin(np.abs(0.5 * (t_lo + t_hi) - 0.5 * (c0 + c1 + 1))))
+        i = ov.index(max(ov))  # the first of equal overlaps, as argmax
+        if ov[i] <= 0:  # no overlap at all: the nearest element
+            mid = 0.5 * (c0 + c1 + 1)
+            dist = [abs(0.5 * (a + h) - mid) for a, h in zip(t_lo, t_hi, strict=True)]
+            i = dist.index(min(dist))
         out.append((i, c0, c1, False, False))
     return out
 
 
 def _nominal_px2(
     x0: float,
-    fronts: np.ndarray,
-    lengths: np.ndarray,
+    fronts: list[float],
+    lengths: list[float],
     n_cols: int,
     span: float,
     vcum: list[int] | None,
 ) -> float:
     """Nominal visible area of the template at `x0`, px^2 (see the module notes)."""
-    lo = [min(max(x0 + f, 0.0), n_cols) for f in fronts.tolist()]
-    hi = [min(max(x0 + f + n, 0.0), n_cols) for f, n in zip(fronts.tolist(), lengths.tolist(),
-                                                           strict=True)]
+    lo, hi = [], []
+    for f, n in zip(fronts, lengths, strict=True):  # min(max(x, 0.0), n_cols), spelled out
+        t = x0 + f
+        u = t + n
+        t = 0.0 if t < 0.0 else t
+        u = 0.0 if u < 0.0 else u
+        lo.append(n_cols if n_cols < t else t)
+        hi.append(n_cols if n_cols < u else u)
     if vcum is None:
         return span * sum(b - a for a, b in zip(lo, hi, strict=True))
+    last = n_cols - 1
 
     def cum(x: float) -> float:  # valid pixels left of x (fractional columns pro rata)
-        k = min(int(x), n_cols - 1)
+        k = int(x)
+        if k > last:
+            k = last
         return vcum[k] + (x - k) * (vcum[k + 1] - vcum[k])
 
     return sum(cum(b) - cum(a) for a, b in zip(lo, hi, strict=True) if b > a)
@@ -701,26 +761,49 @@ def tir_frame_records(
         raise ValueError(f"valid must have the shape of d {d.shape}, got {valid.shape}")
     if not (math.isfinite(peak_window_mm) and peak_window_mm > 0):
         raise ValueError(f"peak_window_mm must be > 0, got {peak_window_mm=}")
+    frame, rows = _frame_rows(d, contact, layout, valid, time_s, peak_window_mm)
+    rec = np.zeros(len(rows), ELEMENT_DTYPE)
+    if rows:
+        rec[:] = rows
+    return frame, rec
+
+
+def _frame_rows(
+    d: np.ndarray,
+    contact: FrameContact,
+    layout: BlockLayout,
+    valid: np.ndarray | None,
+    time_s: float | None,
+    peak_window_mm: float,
+    sums: ColumnSums | None = None,
+) -> tuple[dict[str, float | int | bool], list[tuple]]:
+    """:func:`tir_frame_records` without the checks, the elements as a list of tuples.
+
+    The tuples hold the fields of :data:`ELEMENT_DTYPE` in order (a batch builds one record
+    array at the end instead of one per frame). `sums`: column sums of `d` already taken
+    (see :func:`_column_mean`).
+    """
     px = layout.mm_per_px
     n_cols = d.shape[1]
     n_regions = contact.n_regions
-    counts, row_counts = _column_counts(contact)
-    nz = counts.nonzero()[0]
-    if nz.size == 0:
-        return _empty_frame(n_regions), np.zeros(0, ELEMENT_DTYPE)
-    c_lo, c_hi = int(nz[0]), int(nz[-1]) + 1  # columns holding contact (image frame)
-    total = int(counts[c_lo:c_hi].sum())
+    counts, row_counts = contact.line_counts
+    span_px = _tight_box(contact.box, counts, row_counts)
+    if span_px is None:
+        nz = counts.nonzero()[0]
+        if nz.size == 0:
+            return _empty_frame(n_regions), []
+        rows_on = row_counts.nonzero()[0]
+        span_px = int(rows_on[0]), int(rows_on[-1]) + 1, int(nz[0]), int(nz[-1]) + 1
+    r0, r1, c_lo, c_hi = span_px  # rows and columns holding contact (image frame)
     flip = layout.sliding_direction == "right"
-    rows_on = row_counts.nonzero()[0]
-    r0, r1 = int(rows_on[0]), int(rows_on[-1]) + 1
 
     def to_image(x_px: float) -> float:  # mirrored px -> image mm
         return (n_cols - x_px) * px if flip else x_px * px
 
-    frame = _empty_frame(n_regions, total * px * px)
-    frame["block_in_view"] = True
-
     if layout.element_lengths_mm is None:
+        total = int(counts[c_lo:c_hi].sum())
+        frame = _empty_frame(n_regions, total * px * px)
+        frame["block_in_view"] = True
         prof = _masked_column_mean(d, contact.mask, counts, c_lo, c_hi)
         if flip:
             prof = prof[::-1]
@@ -731,38 +814,44 @@ def tir_frame_records(
             pos, _, contrast = _front_peak(p, c_lo, c_hi - 1, peak_window_mm / px)
             frame["front_peak_x_mm"] = to_image(pos)
             frame["front_peak_contrast"] = contrast
-        return frame, np.zeros(0, ELEMENT_DTYPE)
+        return frame, []
 
     # -- with geometry: the two profiles in the mirrored frame (leading side left) -----------
     a, b = max(c_lo - EDGE_MARGIN_PX, 0), min(c_hi + EDGE_MARGIN_PX, n_cols)
-    p = [0.0] * a + _column_mean(d, r0, r1, a, b).tolist() + [0.0] * (n_cols - b)
-    on = counts >= 0.5 * counts[c_lo:c_hi].max()
-    if flip:
+    prof = _column_mean(d, r0, r1, a, b, sums)
+    p = [0.0] * n_cols
+    starts, ends = _half_runs(counts, c_lo, c_hi)
+    if not flip:
+        p[a:b] = prof.tolist()
+    else:
+        p[n_cols - b : n_cols - a] = prof[::-1].tolist()
         counts = counts[::-1]
-        on = on[::-1]
-        p.reverse()
-    starts, ends = _runs(on)
+        last = n_cols - 1
+        starts, ends = [last - c for c in reversed(ends)], [last - c for c in reversed(starts)]
     fronts, lengths = layout._template_px
+    fronts_l, lengths_l, quarters_l = layout._template_lists
     x_und = layout.undeformed_front_mm(time_s, n_cols * px)
     x0_carrier = _NAN
     if math.isfinite(x_und):
         x0_carrier = n_cols - x_und / px if flip else x_und / px
-    x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier)
-    pieces = _assign(starts, ends, x0, fronts, lengths, layout.sipe_width_mm / px)
-    cnt = counts.tolist()
+    x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier, fronts_l, lengths_l)
+    pieces = _assign(starts, ends, x0, fronts_l, lengths_l, quarters_l,
+                     layout.sipe_width_mm / px)
 
     # Columns between runs (below half coverage) count for the area of the nearer run.
     bounds = [0]
     for (_, _, c1a, _, _), (_, c0b, _, _, _) in itertools.pairwise(pieces):
         bounds.append((c1a + 1 + c0b) // 2)
-    bounds.append(n_cols)
+    areas = np.add.reduceat(counts, bounds, dtype=np.int64).tolist()
+    total = sum(areas)  # the pieces' areas partition the columns
+    frame = _empty_frame(n_regions, total * px * px)
+    frame["block_in_view"] = True
 
     per: dict[int, list[Any]] = {}  # element -> [front, length, area, c0, c1, clip_f, clip_b]
-    for n_p, (i, c0, c1, split_f, split_b) in enumerate(pieces):
+    for (i, c0, c1, split_f, split_b), area in zip(pieces, areas, strict=True):
         level = 0.5 * _median(p[c0 : c1 + 1])
         x_f = float(c0) if split_f else _front_edge(p, c0, c1, level)
         x_b = float(c1 + 1) if split_b else _back_edge(p, c0, c1, level, n_cols)
-        area = sum(cnt[bounds[n_p] : bounds[n_p + 1]])
         e = per.get(i)
         if e is None:
             per[i] = [x_f, x_b - x_f, area, c0, c1, c0 == 0 and not split_f, c1 == n_cols - 1]
@@ -776,11 +865,11 @@ def tir_frame_records(
     lengths_mm = layout.element_lengths_mm
     height = layout.height_mm
     window_px = peak_window_mm / px
-    rec = np.zeros(len(per), ELEMENT_DTYPE)
     rows = []
     for i in sorted(per):
         x_f, length_px, area, c0, c1, clip_f, clip_b = per[i]
-        inside = x0 + fronts[i] >= 0.0 and x0 + fronts[i] + lengths[i] <= n_cols
+        t = x0 + fronts_l[i]
+        inside = t >= 0.0 and t + lengths_l[i] <= n_cols
         length_mm = length_px * px
         if clip_f:
             front_mm = pk_mm = width_mm = contrast = _NAN
@@ -797,7 +886,6 @@ def tir_frame_records(
         liftoff = _NAN if (clip_f or clip_b or not inside) else max(0.0, lengths_mm[i] - length_mm)
         rows.append((i, area * px * px, length_mm, front_mm, pk_mm, width_mm, contrast,
                      liftoff, angle, tip))
-    rec[:] = rows
     frame["n_elements_in_contact"] = len(rows)
     if valid is not None:
         vcum = _valid_cumsum(valid, r0, r1, flip)
@@ -807,7 +895,7 @@ def tir_frame_records(
         span = float(r1 - r0)
         if layout.width_mm is not None:
             span = min(span, layout.width_mm / px)
-    nominal = _nominal_px2(x0, fronts, lengths, n_cols, span, vcum)
+    nominal = _nominal_px2(x0, fronts_l, lengths_l, n_cols, span, vcum)
     frame["contact_ratio"] = total / nominal if nominal > 0 else _NAN
     if rows:
         lead = rows[0]
@@ -820,7 +908,7 @@ def tir_frame_records(
             frame["tip_deflection_mm"] = sum(tips) / len(tips)
         if angles:
             frame["deflection_angle_deg"] = sum(angles) / len(angles)
-    return frame, rec
+    return frame, rows
 
 
 def tir_frame_features(
