@@ -18,11 +18,11 @@ change the base's factor on mu cannot absorb); transient,
 :func:`synthetic.effect_size.strength_for_transient_effect_size` (the RMS change of the
 angle the run's two levels cannot absorb, on a record of 0.2 s before and after the step).
 A transient effect is capped well below 3 x 5 % noise (it acts over at most the step
-height, in a window after the step); at each noise level the benchmark adds a cell at the
-effect's cap (:func:`transient_cap`), labelled with its size, where size 3 is out of
-reach. Per cell the benchmark prints the outcomes, and for the runs that named the right
-effect the median fall of the held-out RMSE (weighted, as ``gap_before``/``gap_after``,
-and plain) and the error of the fitted parameter.
+height, in a window after the step); at each noise level where size 3 is out of reach the
+benchmark adds a cell at the effect's cap (:func:`synthetic.effect_size.transient_size_cap`),
+labelled with its size. Per cell the benchmark prints the outcomes, and for the runs that
+named the right effect the median fall of the held-out RMSE (weighted, as
+``gap_before``/``gap_after``, and plain) and the error of the fitted parameter.
 
 Run: ``python benchmarks/bench_discrepancy.py [--full] [--seeds N] [--workers N]
 [--effects NAME ...] [--no-timing]``.
@@ -49,10 +49,9 @@ from friction_model.discrepancy import (
 from friction_model.discrepancy import steady as steady_module
 from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES
 from synthetic.effect_size import (
-    TRANSIENT_STRENGTH_MAX,
     strength_for_effect_size,
     strength_for_transient_effect_size,
-    transient_effect_size,
+    transient_size_cap,
 )
 from synthetic.measurements import SteadyGrid, make_steady_table
 
@@ -108,20 +107,6 @@ def timing() -> None:
 TRANSIENT_RECORD = {"duration_s": 0.2}
 
 
-def transient_cap(effect: str) -> tuple[float, float]:
-    """(largest transient effect size, its strength) on the benchmark's record.
-
-    Scans the strengths up to the candidate's upper bound (TRANSIENT_STRENGTH_MAX); the
-    cap is where the lag or the stiffening changes the path most beyond what the two
-    levels absorb.
-    """
-    top = TRANSIENT_STRENGTH_MAX[effect]
-    strengths = top * np.geomspace(1e-3, 1.0, 31)
-    sizes = [transient_effect_size(effect, float(s), **TRANSIENT_RECORD) for s in strengths]
-    k = int(np.argmax(sizes))
-    return float(sizes[k]), float(strengths[k])
-
-
 def steady_bound(effect: str) -> float:
     """Upper bound of the steady candidate's strength on GRID (SteadyProblem.parameter_bounds:
     the library bound, or the physical limit of the table, e.g. humidity's critical film)."""
@@ -172,7 +157,6 @@ def full(n_seeds: int, workers: int, only: list[str] | None = None) -> None:
     effects = [e for e in ("none", "none (transient)", *EFFECT_NAMES)
                if not only or e.split()[0] in only]
     confusion: dict[tuple, Counter] = {}
-    records: dict[tuple, list[dict]] = {}
     pool = ProcessPoolExecutor(workers) if workers > 1 else None
     t0 = time.perf_counter()
     try:
@@ -202,7 +186,7 @@ def full(n_seeds: int, workers: int, only: list[str] | None = None) -> None:
                               f"({str(exc).split(': ')[-1]})", flush=True)
                         if not is_transient or size != 3.0:
                             continue
-                        cap, strength = transient_cap(effect)
+                        cap, strength = transient_size_cap(effect, **TRANSIENT_RECORD)
                         cell = round(cap / noise, 2)  # the cell at the effect's cap
                     if not is_transient and effect != "none" and strength > steady_bound(effect):
                         print(f"{label:24s} noise {noise:4.2f} size {size:4.1f}: unreachable "
@@ -214,7 +198,6 @@ def full(n_seeds: int, workers: int, only: list[str] | None = None) -> None:
                     runs = list(pool.map(_one_run, tasks) if pool else map(_one_run, tasks))
                     counts = Counter(r["outcome"] for r in runs)
                     confusion[(label, noise, cell)] = counts
-                    records[(label, noise, cell)] = runs
                     right = counts[effect]
                     wrong = sum(v for k, v in counts.items() if k in EFFECT_NAMES and k != effect)
                     named = [r for r in runs if r["outcome"] == effect]

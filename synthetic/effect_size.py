@@ -49,6 +49,7 @@ __all__ = [
     "strength_for_effect_size",
     "strength_for_transient_effect_size",
     "transient_effect_size",
+    "transient_size_cap",
 ]
 
 # largest strength tried by the bracket search (ice_preheating stops at 1)
@@ -246,6 +247,40 @@ TRANSIENT_STRENGTH_MAX = {"friction_relaxation": 10.0, "frequency_dependent_modu
 _TRANSIENT_SCAN = 24
 
 
+def _transient_scan(effect: str, absorb: str, table: Mapping[str, float]):
+    """(strength, size) on the geometric scan up to the effect's largest strength."""
+    top = TRANSIENT_STRENGTH_MAX[effect]
+    for s in top * np.geomspace(1e-4, 1.0, _TRANSIENT_SCAN):
+        yield float(s), transient_effect_size(effect, float(s), absorb=absorb, **table)
+
+
+def transient_size_cap(
+    effect: str, *, absorb: str = "levels", **table: float
+) -> tuple[float, float]:
+    """Largest transient effect size on a record, and the strength that gives it.
+
+    Parameters
+    ----------
+    effect, absorb, **table
+        As for :func:`strength_for_transient_effect_size` (``duration_s`` defaults to 0.2 s).
+
+    Returns
+    -------
+    (float, float)
+        The largest size on the scan up to :data:`TRANSIENT_STRENGTH_MAX` and its strength.
+
+    Examples
+    --------
+    >>> size, strength = transient_size_cap("frequency_dependent_modulus")
+    >>> 0.04 < size < 0.06
+    True
+    """
+    _check_transient(effect)
+    table.setdefault("duration_s", 0.2)
+    size, strength = max((size, s) for s, size in _transient_scan(effect, absorb, table))
+    return size, strength
+
+
 def _check_transient(effect: str) -> None:
     if effect not in TRANSIENT_STRENGTH_MAX:
         raise ValueError(
@@ -378,20 +413,18 @@ def strength_for_transient_effect_size(
     def size_at(s: float) -> float:
         return transient_effect_size(effect, s, absorb=absorb, **table)
 
-    top = TRANSIENT_STRENGTH_MAX[effect]
-    grid = top * np.geomspace(1e-4, 1.0, _TRANSIENT_SCAN)
     lo, best, best_at = 0.0, 0.0, 0.0
-    for s in grid:
-        reached = size_at(float(s))
+    for s, reached in _transient_scan(effect, absorb, table):
         if reached >= target:
             return float(
                 scipy.optimize.brentq(
-                    lambda x: size_at(x) - target, lo, float(s), rtol=rtol, xtol=1e-9
+                    lambda x: size_at(x) - target, lo, s, rtol=rtol, xtol=1e-9
                 )
             )
         if reached > best:
-            best, best_at = reached, float(s)
-        lo = float(s)
+            best, best_at = reached, s
+        lo = s
+    top = TRANSIENT_STRENGTH_MAX[effect]
     raise ValueError(
         f"{effect} cannot reach effect size {size:g} x noise {noise:g} = {target:.4g} on this "
         f"record: at most {best:.4g} (strength {best_at:.4g}"

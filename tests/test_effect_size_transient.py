@@ -13,6 +13,7 @@ from synthetic.effect_size import (
     TRANSIENT_STRENGTH_MAX,
     strength_for_transient_effect_size,
     transient_effect_size,
+    transient_size_cap,
 )
 from synthetic.measurements import TAU_REF_S, make_transient_table
 
@@ -76,6 +77,10 @@ def test_transient_size_cap_is_reported(effect):
     # 3 x 5 % noise is beyond what a lag or a stiffening of the 1 -> 5 m/s step can do
     with pytest.raises(ValueError, match=r"cannot reach effect size 3 x noise 0.05.*at most"):
         strength_for_transient_effect_size(effect, 3.0, noise=0.05, **RECORD)
+    # the cap is the largest size on the scan, below 3 x 5 % and reached at its strength
+    cap, strength = transient_size_cap(effect, **RECORD)
+    assert cap < 0.15
+    assert transient_effect_size(effect, strength, **RECORD) == cap
 
 
 def test_transient_size_bad_input():

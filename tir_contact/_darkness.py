@@ -183,8 +183,6 @@ class BoxDarkness:
         self._last = None
 
 
-
-
 def _region_into(normaliser: Normaliser, frame: np.ndarray, rows: slice, cols: slice,
                  out: np.ndarray) -> None:
     """Write :meth:`Normaliser.region` into `out` (a float32 view), bit for bit.

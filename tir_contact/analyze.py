@@ -37,7 +37,7 @@ import pandas as pd
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
-from tir_contact.features import EDGE_MARGIN_PX, ELEMENT_DTYPE, BlockLayout, _frame_rows
+from tir_contact.features import EDGE_MARGIN_PX, BlockLayout, _element_records, _frame_rows
 from tir_contact.meta import clip_footage
 from tir_contact.segment import (
     _box_and_counts,
@@ -430,7 +430,6 @@ class _FrameAnalyser:
         if setup.contrast is not None and math.isfinite(setup.contrast):
             self._threshold = max(0.5 * setup.contrast, 0.5 * options.min_darkness)
         self._raw_tests: dict[str, RawContactTest | None] = {}  # by dtype character
-        self._last_test: tuple[np.dtype, RawContactTest | None] | None = None
         self._raw_buf: np.ndarray | None = None
         self._sums: tuple | None = None  # column sums of the last box darkness (fast path)
         self._box = (
@@ -449,14 +448,10 @@ class _FrameAnalyser:
     def _raw_test(self, frame: np.ndarray) -> RawContactTest | None:
         if self._box is None or not math.isfinite(self._threshold):
             return None
-        last = self._last_test
-        if last is not None and last[0] is frame.dtype:  # the usual case: the same dtype
-            return last[1]
         test = self._raw_tests.get(frame.dtype.char, False)
         if test is False:
             test = RawContactTest.build(self.normalise, self._threshold, frame.dtype)
             self._raw_tests[frame.dtype.char] = test
-        self._last_test = (frame.dtype, test)
         return test
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray, Any]:
@@ -490,7 +485,7 @@ class _FrameAnalyser:
 
     def tir(self, k: int, frame: np.ndarray) -> tuple[dict, np.ndarray, dict | None, Any]:
         row, el_rows, regions, contact = self.tir_rows(k, frame)
-        return row, _records(el_rows), regions, contact
+        return row, _element_records(el_rows), regions, contact
 
     def tir_rows(self, k: int, frame: np.ndarray) -> tuple[dict, list[tuple], dict | None, Any]:
         """:meth:`tir` with the elements as tuples of the fields of ``ELEMENT_DTYPE``."""
@@ -527,7 +522,10 @@ class _FrameAnalyser:
 
 
 def _reorder(df: pd.DataFrame, columns: list[str]) -> pd.DataFrame:
-    """`columns` first (NaN where missing), then any further columns."""
+    """`columns` first (NaN where missing), then any further columns (`df` itself when it
+    holds exactly `columns`, in order)."""
+    if list(df.columns) == columns:
+        return df
     for c in columns:
         if c not in df.columns:
             df[c] = np.nan
@@ -549,24 +547,14 @@ def _element_frame(el: Any, k: int, fps: float) -> pd.DataFrame:
     return df
 
 
-def _records(rows: list[tuple]) -> np.ndarray:
-    """Element tuples (fields of ``ELEMENT_DTYPE``) as a record array."""
-    rec = np.zeros(len(rows), ELEMENT_DTYPE)
-    if rows:
-        rec[:] = rows
-    return rec
-
-
 def _records_table(rows: list[tuple], frames: list[int], fps: float) -> pd.DataFrame:
     """The elements table from the element tuples of every frame, built once."""
     if not rows:
         return pd.DataFrame(columns=ELEMENT_COLUMNS)
-    rec = _records(rows)
+    rec = _element_records(rows)
     frame = np.array(frames, dtype=np.int64)
     data = {"frame": frame, "time_s": frame / fps}
     data.update({name: rec[name] for name in rec.dtype.names})
-    if set(data) == set(ELEMENT_COLUMNS):
-        return pd.DataFrame({c: data[c] for c in ELEMENT_COLUMNS})
     return _reorder(pd.DataFrame(data), ELEMENT_COLUMNS)
 
 
@@ -746,7 +734,7 @@ def analyze_video(
                         el_rows += el
                         el_frames += [k] * len(el)
                     if video is not None:
-                        el = _records(el)
+                        el = _element_records(el)
                 else:
                     row, el, extra = analyser.side(k, frame)
                     elements.append(el)

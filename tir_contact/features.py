@@ -762,10 +762,15 @@ def tir_frame_records(
     if not (math.isfinite(peak_window_mm) and peak_window_mm > 0):
         raise ValueError(f"peak_window_mm must be > 0, got {peak_window_mm=}")
     frame, rows = _frame_rows(d, contact, layout, valid, time_s, peak_window_mm)
+    return frame, _element_records(rows)
+
+
+def _element_records(rows: list[tuple]) -> np.ndarray:
+    """Element tuples (the fields of :data:`ELEMENT_DTYPE`, in order) as a record array."""
     rec = np.zeros(len(rows), ELEMENT_DTYPE)
     if rows:
         rec[:] = rows
-    return frame, rec
+    return rec
 
 
 def _frame_rows(
