@@ -75,7 +75,10 @@ class FootageReader(abc.ABC):
     """Random-access, streaming reader of grey frames.
 
     Subclasses implement :meth:`_read` (one frame by index) and set ``_length``,
-    ``_frame_shape``, ``_dtype``, ``_frame_rate`` and ``_bit_depth`` when opened.
+    ``_frame_shape``, ``_dtype``, ``_frame_rate`` and ``_bit_depth`` when opened. A reader
+    whose footage numbers its frames (file names, container time stamps) sets
+    ``_frame_numbers``; a container that claims more frames than it holds intact sets
+    ``_lost_frames`` and reads the intact ones.
 
     Attributes
     ----------
@@ -94,6 +97,8 @@ class FootageReader(abc.ABC):
         self._dtype = np.dtype(np.uint8)
         self._frame_rate: float | None = None
         self._bit_depth = 8
+        self._frame_numbers: np.ndarray | None = None
+        self._lost_frames: tuple[int, ...] = ()
 
     # --- interface -------------------------------------------------------------------------
     def __len__(self) -> int:
@@ -119,6 +124,27 @@ class FootageReader(abc.ABC):
     def bit_depth(self) -> int:
         """Effective bits per pixel, e.g. 12 for 12-bit camera data held in uint16."""
         return self._bit_depth
+
+    @property
+    def frame_numbers(self) -> np.ndarray:
+        """Recorded frame number of each readable frame, ``(len,)`` int64, increasing.
+
+        ``0, 1, 2, ...`` unless the footage numbers its frames itself: a frame folder takes
+        the number in each file name, so a missing file leaves a gap (``..., 9, 20, ...``)
+        and the frame's time is ``frame_number / frame_rate``.
+        """
+        if self._frame_numbers is None:
+            return np.arange(self._length, dtype=np.int64)
+        return self._frame_numbers.copy()
+
+    @property
+    def lost_frames(self) -> tuple[int, ...]:
+        """Frame numbers the container claims but cannot deliver (cut short or corrupt).
+
+        Empty for intact footage. The readable frames are still read; an analysis of footage
+        with lost frames is reported as partial.
+        """
+        return self._lost_frames
 
     @property
     def closed(self) -> bool:
