@@ -188,7 +188,10 @@ def test_batch_survives_every_kind_of_broken_video(clip, tmp_path, capsys):
     for name, words in expected.items():
         assert name in report.index, name
         message = report.loc[name, "message"]
-        assert words.lower() in message.lower(), (name, message)
+        # the report names the video once, in its path column; the message says the rest
+        path = report.loc[name, "path"]
+        assert path not in message, (name, message)
+        assert words.lower() in f"{path}: {message}".lower(), (name, message)
         assert "\n" not in message
         # a corrupt or odd-sized frame is skipped and named; the rest of the video is kept
         status = "partial" if name in ("trunc", "mixed") else "failed"

@@ -805,14 +805,12 @@ class _OverlayVideo:
     """Streams every k-th overlay frame into ``overlay.avi`` in a staging file."""
 
     def __init__(self, setup: _Setup, options: AnalysisOptions, folder: Path) -> None:
-        import tempfile
+        from tir_contact._outdir import temporary_name
 
         self.setup = setup
         self.step = max(1, math.ceil(setup.n_frames / options.overlay_video_max_frames))
         folder.mkdir(parents=True, exist_ok=True)
-        fd, name = tempfile.mkstemp(dir=folder, prefix=".overlay-", suffix=".avi")
-        os.close(fd)
-        self.path = Path(name)
+        self.path = folder / temporary_name("overlay", ".avi")
         self.writer = None
 
     def add(self, k: int, frame: np.ndarray, row: dict, el: Any, extra: Any) -> None:

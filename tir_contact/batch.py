@@ -15,6 +15,8 @@ from __future__ import annotations
 import json
 import logging
 import os
+import sys
+import time
 import traceback
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
@@ -23,6 +25,8 @@ from typing import Any
 
 import pandas as pd
 
+from tir_contact import _workers
+from tir_contact._outdir import remove_stale_temporaries
 from tir_contact._readers import FootageError
 from tir_contact.analyze import (
     _RESULT_VERSION,
@@ -79,6 +83,7 @@ class VideoStatus:
     n_frames: int = 0
     skipped_frames: int = 0
     seconds: float = 0.0
+    warnings: list[str] = field(default_factory=list)
 
 
 @dataclass
@@ -96,8 +101,9 @@ class BatchReport:
         return [v for v in self.videos if v.status not in ("done", "resumed")]
 
     def table(self) -> pd.DataFrame:
-        return pd.DataFrame([asdict(v) for v in self.videos],
-                            columns=list(VideoStatus.__dataclass_fields__))
+        """One row per video; the warnings joined by ``"; "``."""
+        rows = [{**asdict(v), "warnings": "; ".join(v.warnings)} for v in self.videos]
+        return pd.DataFrame(rows, columns=list(VideoStatus.__dataclass_fields__))
 
 
 # --------------------------------------------------------------------------------------------
@@ -216,32 +222,57 @@ def is_current(footage: Footage, out: Path) -> bool:
 def _run_one(footage: Footage, out: str, overrides: Mapping[str, Any] | None,
              options: AnalysisOptions, progress: bool | None, position: int) -> VideoStatus:
     """Analyse one video, turning any failure into a status (runs in a worker)."""
-    import time
-
     t0 = time.perf_counter()
+    path = str(footage.path)
     try:
         result = analyze_video(footage.path, out, overrides=overrides, options=options,
                                name=footage.name, progress=progress,
                                progress_position=position)
     except (FootageError, ValueError, OSError) as exc:
-        return VideoStatus(footage.name, str(footage.path), "failed", _one_line(exc),
+        return VideoStatus(footage.name, path, "failed", _message(exc, path),
                            seconds=time.perf_counter() - t0)
     except Exception as exc:  # a bug must not lose the other videos' results
         logger.debug("%s", traceback.format_exc())
-        return VideoStatus(footage.name, str(footage.path), "failed",
-                           f"{type(exc).__name__}: {_one_line(exc)}",
+        return VideoStatus(footage.name, path, "failed",
+                           f"{type(exc).__name__}: {_message(exc, path)}",
                            seconds=time.perf_counter() - t0)
     skipped = result.skipped
-    status = "partial" if skipped else "done"
-    message = (f"{len(skipped)} frame(s) skipped, first: {skipped[0]['reason']}"
-               if skipped else "")
-    return VideoStatus(footage.name, str(footage.path), status, message,
+    lost = result.summary.get("lost_frames") or []
+    status = "partial" if skipped or lost else "done"
+    parts = []
+    if lost:
+        parts.append(f"{len(lost)} frame(s) lost from the container: {_numbers(lost)}")
+    if skipped:
+        parts.append(f"{len(skipped)} frame(s) skipped, first: "
+                     f"{_message(skipped[0]['reason'], path)}")
+    return VideoStatus(footage.name, path, status, "; ".join(parts),
                        n_frames=len(result.frames), skipped_frames=len(skipped),
-                       seconds=time.perf_counter() - t0)
+                       seconds=time.perf_counter() - t0,
+                       warnings=list(result.summary.get("warnings", [])))
 
 
-def _one_line(exc: BaseException) -> str:
-    return " ".join(str(exc).split())
+def _numbers(values: Sequence[int], most: int = 8) -> str:
+    """``"40-99"`` or ``"3, 7, 12, ... (20 in all)"``: frame numbers in a message."""
+    values = sorted(int(v) for v in values)
+    if values and values[-1] - values[0] == len(values) - 1 and len(values) > 2:
+        return f"{values[0]}-{values[-1]}"
+    text = ", ".join(str(v) for v in values[:most])
+    return text + (f", ... ({len(values)} in all)" if len(values) > most else "")
+
+
+def _message(exc: BaseException | str, path: str) -> str:
+    """One line, without the video's own path in front (the report names it once)."""
+    text = " ".join(str(exc).split())
+    for prefix in (f"{path}: ", f"{path}{os.sep}", f"{Path(path).name}: "):
+        text = text.removeprefix(prefix)
+    return text
+
+
+def _show_progress(progress: bool | None) -> bool:
+    """Progress bars: as asked, or (None) only when stderr is a terminal."""
+    if progress is None:
+        return sys.stderr.isatty()
+    return bool(progress)
 
 
 def analyze_batch(
@@ -276,7 +307,8 @@ def analyze_batch(
     resume : bool
         Skip videos whose results are complete and current (:func:`is_current`).
     progress : bool or None
-        Progress bars (batch and per video); None: only on a terminal.
+        True: progress bars (per video too with one worker). None: bars on a terminal,
+        otherwise one plain line per finished video on stderr. False: neither.
     on_done : callable, optional
         Called with each video's status as it finishes.
 
@@ -287,11 +319,12 @@ def analyze_batch(
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    from tqdm.auto import tqdm
+    from tqdm import tqdm
 
     options = options or AnalysisOptions()
     out_path = Path(out)
     out_path.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(out_path)
     items = list(footage)
     report = BatchReport()
     todo: list[Footage] = []
@@ -303,7 +336,11 @@ def analyze_batch(
             todo.append(it)
     n_workers = max(1, workers if workers is not None else (os.cpu_count() or 1))
     n_workers = min(n_workers, max(1, len(todo)))
-    bar = tqdm(total=len(items), desc="videos", unit="video", disable=progress is False,
+    bars = _show_progress(progress)
+    lines = progress is None and not bars
+    # per-video bars only where they cannot interleave (one worker, a terminal)
+    video_progress = bars and n_workers == 1 and scheduler is None
+    bar = tqdm(total=len(items), desc="videos", unit="video", disable=not bars,
                initial=len(items) - len(todo), position=0, dynamic_ncols=True)
 
     def finish(status: VideoStatus) -> None:
@@ -311,6 +348,10 @@ def analyze_batch(
         bar.update(1)
         if status.status == "failed":
             logger.error("%s: %s", status.path, status.message)
+        for text in status.warnings:
+            logger.warning("%s: %s", status.path, text)
+        if lines:
+            _print_line(status, len(report.videos), len(items))
         if on_done is not None:
             on_done(status)
         _write_report(report, out_path, items)
@@ -320,13 +361,14 @@ def analyze_batch(
             _run_dask(todo, out_path, overrides, options, scheduler, finish)
         elif n_workers == 1:
             for it in todo:
-                finish(_run_one(it, str(out_path), overrides, options, progress, 1))
+                finish(_run_one(it, str(out_path), overrides, options, video_progress, 1))
         else:
-            with ProcessPoolExecutor(max_workers=n_workers) as pool:
+            with ProcessPoolExecutor(max_workers=n_workers, mp_context=_workers.context(),
+                                     initializer=_workers.init_worker,
+                                     initargs=(os.getpid(),)) as pool:
                 futures = {
-                    pool.submit(_run_one, it, str(out_path), overrides, options, progress,
-                                1 + i % n_workers): it
-                    for i, it in enumerate(todo)
+                    pool.submit(_run_one, it, str(out_path), overrides, options, False, 0): it
+                    for it in todo
                 }
                 for fut in as_completed(futures):
                     it = futures[fut]
@@ -334,12 +376,22 @@ def analyze_batch(
                         status = fut.result()
                     except Exception as exc:  # worker crashed (e.g. killed)
                         status = VideoStatus(it.name, str(it.path), "failed",
-                                             f"worker failed: {_one_line(exc)}")
+                                             f"worker failed: {_message(exc, str(it.path))}")
                     finish(status)
     finally:
         bar.close()
     _write_report(report, out_path, items)
     return report
+
+
+def _print_line(status: VideoStatus, done: int, total: int) -> None:
+    """One plain line per finished video (progress where stderr is not a terminal)."""
+    text = f"[{done}/{total}] {status.status}: {status.name}"
+    if status.status in ("done", "partial"):
+        text += f" ({status.n_frames} frames, {status.seconds:.1f} s)"
+    if status.message:
+        text += f": {status.message}"
+    print(text, file=sys.stderr, flush=True)
 
 
 def _run_dask(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | None,
@@ -362,7 +414,7 @@ def _run_dask(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | Non
                 status = fut.result()
             except Exception as exc:
                 status = VideoStatus(it.name, str(it.path), "failed",
-                                     f"worker failed: {_one_line(exc)}")
+                                     f"worker failed: {_message(exc, str(it.path))}")
             finish(status)
 
 

@@ -4,10 +4,16 @@ from __future__ import annotations
 
 import argparse
 import math
+import tempfile
+from pathlib import Path
 
 __all__ = [
+    "check_output_folder",
     "finite_number",
     "non_negative_number",
+    "output_file",
+    "output_folder",
+    "output_path",
     "positive_int",
     "positive_number",
     "positive_pair",
@@ -70,3 +76,79 @@ def positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}")
     return value
+
+
+def check_output_folder(path: str | Path) -> Path:
+    """Check that files can be written into folder `path` (created later where missing).
+
+    The nearest existing folder on the way to `path` must be a folder in which a file can
+    be created: a write is tried (a temporary file, removed at once), since permission bits
+    do not show a read-only mount, an immutable folder or ``/proc``. Nothing is left behind.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output folder.
+
+    Returns
+    -------
+    Path
+        `path` as a Path.
+
+    Raises
+    ------
+    ValueError
+        One line naming `path` and what is wrong with it.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> check_output_folder(Path(tempfile.mkdtemp()) / "new" / "out").name
+    'out'
+    """
+    target = Path(path)
+    probe = target
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    if not probe.is_dir():
+        what = "is" if probe == target else f"lies under {probe}, which is"
+        raise ValueError(f"{target}: {what} a file, not a folder")
+    try:
+        with tempfile.TemporaryFile(dir=probe):
+            pass
+    except OSError as exc:
+        where = "" if probe == target else f" (in {probe})"
+        raise ValueError(
+            f"{target}: cannot write there{where}: {exc.strerror or exc}"
+        ) from None
+    return target
+
+
+def output_folder(text: str) -> Path:
+    """argparse type of ``--out DIR``: a folder files can be written into."""
+    try:
+        return check_output_folder(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def output_file(text: str) -> Path:
+    """argparse type of ``--out FILE``: a file whose folder can be written into."""
+    target = Path(text)
+    if target.is_dir():
+        raise argparse.ArgumentTypeError(f"{target}: is a folder, expected a file name")
+    try:
+        check_output_folder(target.parent if str(target.parent) else Path("."))
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"{target}: {exc}") from None
+    return target
+
+
+def output_path(text: str) -> Path:
+    """argparse type of an ``--out`` that is a file or a folder, by what is written."""
+    target = Path(text)
+    try:
+        check_output_folder(target.parent if target.is_file() else target)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return target

@@ -14,7 +14,7 @@ import logging
 import sys
 from pathlib import Path
 
-from tir_contact.commands._types import positive_int, positive_number
+from tir_contact.commands._types import output_folder, positive_int, positive_number
 
 logger = logging.getLogger(__name__)
 
@@ -40,7 +40,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     )
     p.add_argument("paths", nargs="+", metavar="PATH", type=Path,
                    help="footage folder or file (a tree with --recursive)")
-    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
+    p.add_argument("--out", type=output_folder, required=True, metavar="DIR",
+                   help="output folder")
     p.add_argument("--recursive", action="store_true", help="search the PATHs for footage")
     p.add_argument("--workers", type=positive_int, default=None, metavar="N",
                    help="local worker processes (default: all cores)")
@@ -66,7 +67,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     for key in _meta_option_keys():
         field = META_FIELDS[key]
         m.add_argument(option_flag(key), dest="meta__" + key.replace(".", "__"),
-                       default=None, metavar="X", help=f"{field.description} ({key})")
+                       default=None, metavar="X",
+                       help=f"{field.description} ({key})".replace("%", "%%"))
     p.set_defaults(func=run)
     return p
 

@@ -34,7 +34,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from tir_contact.commands._types import positive_number
+from tir_contact.commands._types import output_file, positive_number
 
 __all__ = ["LAW_CHOICES", "add_parser", "run"]
 
@@ -107,7 +107,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         metavar="CSV",
         help="transient tables (time_s, velocity_mps, angle_deg)",
     )
-    parser.add_argument("--out", required=True, metavar="FILE", help="parameter file to write")
+    parser.add_argument("--out", type=output_file, required=True, metavar="FILE",
+                        help="parameter file to write")
     parser.add_argument(
         "--preset",
         default=None,

@@ -14,6 +14,8 @@ import argparse
 import logging
 from pathlib import Path
 
+from tir_contact.commands._types import output_folder
+
 logger = logging.getLogger(__name__)
 
 
@@ -27,7 +29,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
             "test-rig runs with known friction and evaluate them. Writes CSV and PNG files."
         ),
     )
-    p.add_argument("--out", type=Path, default=Path("demo-out"), help="output folder")
+    p.add_argument("--out", type=output_folder, default=Path("demo-out"),
+                   help="output folder")
     p.add_argument("--seed", type=int, default=1, help="random seed of the synthetic runs")
     p.add_argument("--runs", type=int, default=3, help="repeated runs per velocity (1..10)")
     p.set_defaults(func=run)

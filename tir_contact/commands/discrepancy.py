@@ -26,7 +26,12 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from tir_contact.commands._types import positive_int, positive_number, positive_pair
+from tir_contact.commands._types import (
+    output_folder,
+    positive_int,
+    positive_number,
+    positive_pair,
+)
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -48,7 +53,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                      help="elements.csv or analyze result folders (side view)")
     src.add_argument("--stick-slip", type=positive_pair, metavar="MEASURED_HZ,SIMULATED_HZ",
                      help="measured and simulated stick-slip frequency, Hz")
-    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
+    p.add_argument("--out", type=output_folder, required=True, metavar="DIR",
+                   help="output folder")
     p.add_argument("--params", type=Path, default=None, metavar="JSON",
                    help="parameter file of tir-contact calibrate")
     p.add_argument("--effects", default=None, metavar="NAME,...",

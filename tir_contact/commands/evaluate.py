@@ -18,7 +18,7 @@ import argparse
 import sys
 from typing import Any
 
-from tir_contact.commands._types import non_negative_number, positive_number
+from tir_contact.commands._types import non_negative_number, output_folder, positive_number
 
 __all__ = ["add_parser", "run"]
 
@@ -48,7 +48,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument(
         "paths", nargs="+", metavar="PATH", help="run CSV files or folders of *.csv files"
     )
-    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    parser.add_argument("--out", type=output_folder, required=True, metavar="DIR",
+                        help="output folder")
     parser.add_argument(
         "--instationary",
         action="store_true",

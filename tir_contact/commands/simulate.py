@@ -28,7 +28,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from tir_contact.commands._types import positive_number, positive_pair
+from tir_contact.commands._types import output_folder, positive_number, positive_pair
 
 __all__ = ["add_parser", "run"]
 
@@ -58,7 +58,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         ),
     )
     parser.add_argument("--params", required=True, metavar="FILE", help="parameter file (JSON)")
-    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    parser.add_argument("--out", type=output_folder, required=True, metavar="DIR",
+                        help="output folder")
     parser.add_argument(
         "--velocity",
         type=positive_number,

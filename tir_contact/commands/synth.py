@@ -30,6 +30,7 @@ from typing import Any
 
 from tir_contact.commands._types import finite_number as _number
 from tir_contact.commands._types import non_negative_number as _non_negative
+from tir_contact.commands._types import output_folder, output_path
 from tir_contact.commands._types import positive_int as _positive_int
 from tir_contact.commands._types import positive_number as _positive
 
@@ -140,7 +141,8 @@ def _add_footage(sub: Any) -> None:
         "--frames", type=_positive_int, default=400, metavar="N", help="frames (default 400)"
     )
     p.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
-    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    p.add_argument("--out", type=output_folder, required=True, metavar="DIR",
+                   help="output folder")
     p.add_argument("--format", choices=_FORMATS, default="png", help="output format (default png)")
     cam = p.add_argument_group("camera (default: the renderer's)")
     cam.add_argument("--fps", type=_positive, metavar="HZ", help="frame rate, 1/s")
@@ -179,6 +181,7 @@ def _add_measurements(sub: Any) -> None:
     p.add_argument("--kind", required=True, choices=_KINDS, help="what to make")
     p.add_argument(
         "--out",
+        type=output_path,
         required=True,
         metavar="PATH",
         help="CSV file (steady, transient) or folder of run_NNN.csv files (raw)",

@@ -1,0 +1,157 @@
+"""The console command as a user meets it: help, exit codes, one-line errors, no traceback."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+
+import pytest
+
+from tir_contact.cli import build_parser, main
+
+#: Every command a user can type (``synth`` has two of its own).
+COMMANDS = [
+    [],
+    ["analyze"],
+    ["evaluate"],
+    ["calibrate"],
+    ["simulate"],
+    ["discrepancy"],
+    ["demo"],
+    ["synth"],
+    ["synth", "footage"],
+    ["synth", "measurements"],
+]
+
+#: A minimal valid command line of each command with an output path, the output last.
+WITH_OUT = {
+    "analyze": ["analyze", "clip", "--out"],
+    "evaluate": ["evaluate", "runs", "--out"],
+    "calibrate": ["calibrate", "--characteristic", "c.csv", "--out"],
+    "simulate": ["simulate", "--params", "p.json", "--out"],
+    "discrepancy": ["discrepancy", "--steady", "s.csv", "--out"],
+    "demo": ["demo", "--out"],
+    "synth footage": ["synth", "footage", "--out"],
+    "synth measurements": ["synth", "measurements", "--kind", "steady", "--out"],
+}
+
+
+@pytest.mark.parametrize("command", COMMANDS, ids=lambda c: " ".join(c) or "tir-contact")
+def test_help_of_every_command(command, capsys):
+    assert main([*command, "--help"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"usage: {' '.join(['tir-contact', *command])}")
+    assert "Traceback" not in out
+
+
+def test_help_through_the_console_script():
+    # the installed entry point, as a user types it (a new process: no pytest capture)
+    done = subprocess.run([sys.executable, "-m", "tir_contact", "analyze", "--help"],
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "--conditions-humidity-pct" in done.stdout and "in %" in done.stdout
+
+
+def test_version(capsys):
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.startswith("tir-contact ")
+
+
+@pytest.mark.parametrize("argv", [["analyze"], ["bogus"], ["evaluate", "x", "--out", "o", "--nope"],
+                                  ["analyze", "x", "--out", "o", "--workers", "0"]])
+def test_bad_options_exit_2_without_traceback(argv, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "error:" in err.splitlines()[-1]
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("name", sorted(WITH_OUT))
+def test_output_under_a_file_is_one_line(name, tmp_path, capsys):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder")
+    assert main([*WITH_OUT[name], str(blocker / "out")]) == 2
+    err = capsys.readouterr().err
+    last = err.splitlines()[-1]
+    assert "argument --out" in last and str(blocker) in last and "not a folder" in last
+    assert "Traceback" not in err
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc (Linux)")
+def test_output_where_nothing_can_be_written(capsys):
+    assert main(["demo", "--out", "/proc/self/no_such_dir/out"]) == 2
+    last = capsys.readouterr().err.splitlines()[-1]
+    assert "/proc/self/no_such_dir/out: cannot write there" in last
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0,
+                    reason="root writes into read-only folders")
+def test_read_only_output_folder(tmp_path, capsys):
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o500)
+    try:
+        assert main(["demo", "--out", str(folder / "out")]) == 2
+    finally:
+        folder.chmod(0o700)
+    assert "cannot write there" in capsys.readouterr().err
+
+
+def test_output_check_leaves_nothing_behind(tmp_path):
+    target = tmp_path / "new" / "deeper"
+    args = build_parser().parse_args(["demo", "--out", str(target)])
+    assert args.out == target
+    assert list(tmp_path.iterdir()) == []  # no folder made, no probe file left
+
+
+@pytest.mark.parametrize(("exc", "code", "words"), [
+    (ValueError("runs.csv: column 'mu' missing"), 2, "error: runs.csv: column 'mu' missing"),
+    (FileNotFoundError(2, "No such file or directory", "x.csv"), 2, "No such file"),
+    (RuntimeError("boom\nsecond line"), 1, "internal error: RuntimeError: boom second line"),
+])
+def test_errors_from_a_command_are_one_line(monkeypatch, capsys, exc, code, words):
+    def fail(args: argparse.Namespace) -> int:
+        raise exc
+
+    parser = build_parser()
+    real_parse = parser.parse_args
+
+    def parse(argv=None):
+        args = real_parse(argv)
+        args.func = fail
+        return args
+
+    monkeypatch.setattr(parser, "parse_args", parse)
+    monkeypatch.setattr("tir_contact.cli.build_parser", lambda: parser)
+    assert main(["demo"]) == code
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err and "Traceback" not in err
+
+
+def test_quiet_switches_progress_off(monkeypatch):
+    seen = {}
+
+    def record(args: argparse.Namespace) -> int:
+        seen.update(vars(args))
+        return 0
+
+    parser = build_parser()
+    real_parse = parser.parse_args
+
+    def parse(argv=None):
+        args = real_parse(argv)
+        args.func = record
+        return args
+
+    monkeypatch.setattr(parser, "parse_args", parse)
+    monkeypatch.setattr("tir_contact.cli.build_parser", lambda: parser)
+    assert main(["analyze", "clip", "--out", "o", "-q"]) == 0
+    assert seen["no_progress"] is True and seen["quiet"] is True
+    seen.clear()
+    assert main(["-q", "evaluate", "runs", "--out", "o"]) == 0
+    assert seen["no_progress"] is True
+    seen.clear()
+    assert main(["analyze", "clip", "--out", "o"]) == 0
+    assert seen["no_progress"] is False and seen["quiet"] is False
