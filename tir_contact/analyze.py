@@ -38,7 +38,7 @@ from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
 from tir_contact.features import EDGE_MARGIN_PX, BlockLayout, _element_records, _frame_rows
-from tir_contact.meta import clip_footage
+from tir_contact.meta import META_FILENAME, clip_footage, read_meta_json
 from tir_contact.segment import (
     _box_and_counts,
     _label_box,
@@ -238,12 +238,21 @@ def _images_in(folder: Path) -> int:
         return 0
 
 
-def resolve_footage(path: str | os.PathLike[str]) -> tuple[Path, str]:
+def resolve_footage(path: str | os.PathLike[str], *, strict: bool = False) -> tuple[Path, str]:
     """The footage a path means, and its result name.
 
     A synthetic clip folder (``meta.json`` naming ``frames/...`` or a video file that
     exists) means its frames folder or video, named after the clip folder; this holds for
     a multi-page TIFF in the clip folder too.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        What the user named.
+    strict : bool
+        Raise the ``meta.json`` error of a folder that holds no images and whose
+        ``meta.json`` cannot be read (instead of reading the folder as frames, which then
+        reports "no image files").
 
     Returns
     -------
@@ -255,6 +264,8 @@ def resolve_footage(path: str | os.PathLike[str]) -> tuple[Path, str]:
         inner = clip_footage(p)
         if inner is not None and (inner.exists() or _images_in(p) == 0):
             return inner, p.name
+        if strict and inner is None and (p / META_FILENAME).is_file() and _images_in(p) == 0:
+            read_meta_json(p / META_FILENAME)  # raises the JSON error, naming the file
     return p, output_name(p)
 
 
@@ -340,9 +351,13 @@ class _Setup:
     shape: tuple[int, int]
     max_dn: float
     skipped: list[dict[str, Any]]
+    numbers: np.ndarray  # recorded frame number of each readable frame (reader.frame_numbers)
+    bad: set[int] = field(default_factory=set)  # indices of frames that could not be read
+    grey_range: tuple[float, float] = (0.0, 0.0)  # 1st and 99th percentile of sampled pixels
 
 
-def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]]) -> list[np.ndarray]:
+def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
+                   bad: set[int], numbers: np.ndarray) -> list[np.ndarray]:
     n = len(reader)
     idx = np.unique(np.linspace(0, n - 1, min(n, n_sample)).round().astype(int))
     frames = []
@@ -350,7 +365,8 @@ def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]]) ->
         try:
             frames.append(reader.get_frame(int(i)))
         except FootageError as exc:
-            skipped.append({"frame": int(i), "reason": str(exc)})
+            skipped.append({"frame": int(numbers[i]), "reason": str(exc)})
+            bad.add(int(i))
     return frames
 
 
@@ -364,12 +380,16 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         raise FootageError(f"{path}: the footage has no frames", path)
     view, contact_is = meta["view"], meta["contact_is"]
     skipped: list[dict[str, Any]] = []
-    samples = _sample_frames(reader, options.reference_frames, skipped)
+    bad: set[int] = set()
+    numbers = np.asarray(reader.frame_numbers, dtype=np.int64)
+    samples = _sample_frames(reader, options.reference_frames, skipped, bad, numbers)
     if not samples:
         raise FootageError(f"{path}: none of the sampled frames could be read "
                            f"(first reason: {skipped[0]['reason']})", path)
     shape = samples[0].shape
     max_dn = float(meta.get("max_dn") or (2 ** reader.bit_depth - 1))
+    pixels = np.concatenate([f[::4, ::4].ravel() for f in samples])
+    grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
     reference: Reference | None
     if options.reference is not None:
         reference = _read_reference_file(options.reference, shape)
@@ -398,7 +418,8 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         contrast = float(np.median(finite)) if finite else None
     layout = BlockLayout.from_meta(meta)
     return _Setup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
-                  reference, method, contrast, n, shape, max_dn, skipped)
+                  reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
+                  grey_range)
 
 
 def _fully_in_view(front_mm: float, setup: _Setup, margin_mm: float = 0.5) -> bool:
@@ -690,7 +711,7 @@ def analyze_video(
     from tir_contact.io import open_footage
 
     options = options or AnalysisOptions()
-    path, default_name = resolve_footage(path)
+    path, default_name = resolve_footage(path, strict=True)
     name = name or default_name
     t0 = time.perf_counter()
     with open_footage(path) as reader:
@@ -702,7 +723,8 @@ def analyze_video(
         el_frames: list[int] = []
         regions: list[dict] = []
         skipped = list(setup.skipped)
-        bad = {s["frame"] for s in skipped}
+        bad = setup.bad
+        numbers = setup.numbers.tolist()
         video = (
             _OverlayVideo(setup, options, Path(out))
             if out is not None and options.overlay_video
@@ -714,13 +736,14 @@ def analyze_video(
         get_frame = reader.get_frame
         tir = analyser.tir_rows if setup.view == "tir" else None
         try:
-            for k in range(setup.n_frames):
+            for i in range(setup.n_frames):
                 if tick is not None:
                     tick(1)
-                if k in bad:
+                if i in bad:
                     continue
+                k = numbers[i]  # the recorded frame number: time is k / fps
                 try:
-                    frame = get_frame(k)
+                    frame = get_frame(i)
                 except FootageError as exc:
                     skipped.append({"frame": k, "reason": str(exc)})
                     logger.warning("%s", exc)
@@ -740,7 +763,7 @@ def analyze_video(
                     elements.append(el)
                 rows.append(row)
                 if video is not None:
-                    video.add(k, frame, row, el, extra)
+                    video.add(i, k, frame, row, el, extra)
         finally:
             bar.close()
             if video is not None:
@@ -760,16 +783,65 @@ def analyze_video(
                 f"{path}: no frame could be read (first reason: {skipped[0]['reason']})", path
             )
         skipped.sort(key=lambda s: s["frame"])
-        summary = _summary(path, name, setup, options, frames_df, elements_df, skipped, elapsed)
+        summary = _summary(path, name, setup, options, frames_df, elements_df, skipped, elapsed,
+                           lost=list(reader.lost_frames))
+        for text in summary["warnings"]:
+            logger.warning("%s: %s", path, text)
         result = VideoAnalysis(frames_df, elements_df, regions_df, summary, None, skipped)
         if out is not None:
             result.out_dir = _write(result, Path(out) / name, reader, analyser, video)
     return result
 
 
+#: Below this fraction of full scale, the brightest 1 % of pixels are not a lit field.
+DARK_FOOTAGE_FRACTION = 0.03
+#: Above this fraction of full scale, the darkest 1 % of pixels are saturated.
+SATURATED_FRACTION = 0.98
+
+
+def footage_warnings(setup: _Setup, frames: pd.DataFrame, lost: list[int]) -> list[str]:
+    """What the user must know about a video whose numbers may mean nothing.
+
+    Footage without a lit field (black), saturated footage (white), a video in which no
+    frame shows contact or the block, gaps in the recorded frame numbers, and frames lost
+    from a container that was cut short.
+    """
+    out = []
+    low, high = setup.grey_range
+    if high <= DARK_FOOTAGE_FRACTION * setup.max_dn:
+        out.append(f"no lit field: the brightest 1 % of pixels reach grey {high:.0f} of "
+                   f"{setup.max_dn:.0f} (black footage?)")
+    elif low >= SATURATED_FRACTION * setup.max_dn:
+        out.append(f"saturated footage: even the darkest 1 % of pixels reach grey {low:.0f} "
+                   f"of {setup.max_dn:.0f}")
+    in_view = frames["block_in_view"].astype(bool)
+    if len(frames) and not in_view.any():
+        what = "contact" if setup.view == "tir" else "block"
+        out.append(f"no {what} found in any of the {len(frames)} frames analysed "
+                   f"(reference: {setup.reference_method})")
+    numbers = setup.numbers
+    jumps = np.flatnonzero(np.diff(numbers) > 1)
+    if len(jumps):
+        missing = int(sum(numbers[j + 1] - numbers[j] - 1 for j in jumps))
+        first = int(jumps[0])
+        out.append(f"{missing} frame number(s) missing from the footage in {len(jumps)} "
+                   f"gap(s), the first from frame {numbers[first]} to {numbers[first + 1]}; "
+                   "times follow the frame numbers")
+    if lost:
+        out.append(f"the container was cut short: {len(lost)} frame(s) lost "
+                   f"({lost[0]}-{lost[-1]})")
+    return out
+
+
+def _gaps(numbers: np.ndarray) -> list[dict[str, int]]:
+    jumps = np.flatnonzero(np.diff(numbers) > 1)
+    return [{"after": int(numbers[j]), "before": int(numbers[j + 1]),
+             "missing": int(numbers[j + 1] - numbers[j] - 1)} for j in jumps]
+
+
 def _summary(path: Path, name: str, setup: _Setup, options: AnalysisOptions,
              frames: pd.DataFrame, elements: pd.DataFrame, skipped: list[dict[str, Any]],
-             elapsed: float) -> dict[str, Any]:
+             elapsed: float, lost: list[int]) -> dict[str, Any]:
     from tir_contact import __version__
 
     ref = setup.reference
@@ -785,6 +857,9 @@ def _summary(path: Path, name: str, setup: _Setup, options: AnalysisOptions,
         "frames_without_block": int((~in_view).sum()),
         "frames_with_whole_block": int(frames["block_fully_in_view"].astype(bool).sum()),
         "skipped_frames": skipped,
+        "lost_frames": lost,
+        "frame_gaps": _gaps(setup.numbers),
+        "warnings": footage_warnings(setup, frames, lost),
         "steady": _steady(frames, elements),
         "reference": {
             "method": setup.reference_method,
@@ -813,10 +888,11 @@ class _OverlayVideo:
         self.path = folder / temporary_name("overlay", ".avi")
         self.writer = None
 
-    def add(self, k: int, frame: np.ndarray, row: dict, el: Any, extra: Any) -> None:
+    def add(self, i: int, k: int, frame: np.ndarray, row: dict, el: Any, extra: Any) -> None:
+        """Add frame index `i` (recorded frame number `k`) when it is on the video's step."""
         import cv2
 
-        if k % self.step:
+        if i % self.step:
             return
         el = _element_frame(el, k, self.setup.fps)
         img = _draw(self.setup, k, frame, row, el, extra)
@@ -870,9 +946,10 @@ def _write(result: VideoAnalysis, final: Path, reader: Any, analyser: _FrameAnal
                                title=result.summary["name"])
         if options.overlay_frames > 0:
             (stage / "overlays").mkdir()
+            index_of = {int(n): i for i, n in enumerate(setup.numbers)}
             for k in _overlay_choice(result.frames, options.overlay_frames):
                 try:
-                    frame = reader.get_frame(k)
+                    frame = reader.get_frame(index_of[k])
                 except FootageError:
                     continue
                 if setup.view == "tir":

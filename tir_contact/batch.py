@@ -216,7 +216,8 @@ def is_current(footage: Footage, out: Path) -> bool:
     return (summary.get("complete") is True
             and summary.get("result_version") == _RESULT_VERSION
             and summary.get("fingerprint") == fingerprint
-            and not summary.get("skipped_frames"))
+            and not summary.get("skipped_frames")
+            and not summary.get("lost_frames"))
 
 
 def _run_one(footage: Footage, out: str, overrides: Mapping[str, Any] | None,

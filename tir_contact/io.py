@@ -23,8 +23,10 @@ rounded, in the stored bit depth. ``frame_rate`` is in Hz (frames per second).
 from __future__ import annotations
 
 import abc
+import contextlib
 import logging
 import os
+import re
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from types import TracebackType
@@ -328,6 +330,11 @@ class FrameFolderReader(FootageReader):
     size or bit depth than the first, is an error naming that file. TIFF frames are read
     with tifffile (first page), the rest with OpenCV. The frame rate is unknown (None):
     ``meta.json`` gives it.
+
+    Frame numbers (:attr:`frame_numbers`) are the last number in each file name
+    (``frame_000020.png`` is frame 20), so a missing file leaves a gap in the numbers and
+    does not shift the later frames' times. When the names carry no such number, or two
+    files share one, frames are numbered by position (a warning says so).
     """
 
     kind = "folder"
@@ -367,6 +374,7 @@ class FrameFolderReader(FootageReader):
         files.sort(key=lambda p: natural_key(p.name))
         self._files = files
         self._length = len(files)
+        self._frame_numbers = _file_numbers(files)
         first = decode_image_file(files[0])
         self._set_format(first)
 
@@ -380,6 +388,28 @@ class FrameFolderReader(FootageReader):
 
     def _frame_name(self, index: int) -> str:
         return f"{self._files[index]} (frame {index})"
+
+
+_LAST_NUMBER = re.compile(r"(\d+)(?!.*\d)")
+
+
+def _file_numbers(files: Sequence[Path]) -> np.ndarray | None:
+    """The last number in each file's stem, when they increase strictly; else None."""
+    numbers = []
+    for f in files:
+        match = _LAST_NUMBER.search(f.stem)
+        if match is None:
+            if len(files) > 1:
+                logger.warning("%s: no frame number in the name; frames numbered by position",
+                               f)
+            return None
+        numbers.append(int(match.group(1)))
+    out = np.array(numbers, dtype=np.int64)
+    if len(out) > 1 and not np.all(np.diff(out) > 0):
+        logger.warning("%s: frame numbers in the file names repeat or do not increase in "
+                       "name order; frames numbered by position", files[0].parent)
+        return None
+    return out
 
 
 class MultiPageTiffReader(FootageReader):
@@ -408,36 +438,58 @@ class MultiPageTiffReader(FootageReader):
         file = Path(path)
         if not file.is_file():
             raise FootageError(f"{file}: not a file", file)
-        try:
-            self._tif = tifffile.TiffFile(file)
-        except Exception as exc:
-            raise FootageError(f"{file}: not a readable TIFF file ({one_line(exc)})", file) from exc
-        try:
-            self._open()
-        except BaseException:
-            self._tif.close()
-            raise
+        with _quiet_tifffile():  # its complaints become our one warning, naming the frames
+            try:
+                self._tif = tifffile.TiffFile(file)
+            except Exception as exc:
+                raise FootageError(
+                    f"{file}: not a readable TIFF file ({one_line(exc)})", file
+                ) from exc
+            try:
+                self._open()
+            except BaseException:
+                self._tif.close()
+                raise
 
     def _open(self) -> None:
         tif = self._tif
         file = self.path
         pages = tif.pages
-        self._length = len(pages)
-        if self._length == 0:
+        n_pages = len(pages)
+        if n_pages == 0:
             raise FootageError(f"{file}: TIFF file holds no page (truncated?)", file)
         first_page = pages.first
         self._axes = first_page.axes
+        shape = tuple(int(n) for n in first_page.shape)
+        frame_px = int(np.prod(shape))
+        claimed = _claimed_pages(tif, frame_px, n_pages)
+        self._length = n_pages
         self._contiguous: tuple[int, int, np.dtype[Any], tuple[int, ...]] | None = None
         try:
-            series = tif.series[0]
-            if len(tif.series) == 1 and series.dataoffset is not None:
-                shape = tuple(int(n) for n in first_page.shape)
-                dtype = np.dtype(series.dtype).newbyteorder(tif.byteorder)
-                nbytes = int(np.prod(shape)) * dtype.itemsize
-                if int(np.prod(series.shape)) == self._length * int(np.prod(shape)):
-                    self._contiguous = (int(series.dataoffset), nbytes, dtype, shape)
+            offset = _contiguous_offset(tif, first_page, frame_px, claimed)
+            if offset is not None:
+                dtype = np.dtype(first_page.dtype).newbyteorder(tif.byteorder)
+                nbytes = frame_px * dtype.itemsize
+                whole = (os.path.getsize(file) - offset) // nbytes
+                self._length = int(min(claimed, whole))
+                self._contiguous = (offset, nbytes, dtype, shape)
         except Exception as exc:
             logger.debug("%s: pages decoded one by one (%s)", file, one_line(exc))
+        if self._contiguous is None:  # pages whose data run past the end are lost too
+            size = os.path.getsize(file)
+            while self._length > 0 and _page_end(pages[self._length - 1]) > size:
+                self._length -= 1
+        if self._length < 1:
+            raise FootageError(
+                f"{file}: cut short before the end of its first frame ({claimed} claimed)", file
+            )
+        if claimed > self._length:
+            self._lost_frames = tuple(range(self._length, claimed))
+            lost = self._lost_frames
+            logger.warning("%s: cut short: %d of the %d frames it claims are intact; %s lost",
+                           file, self._length, claimed,
+                           f"frame {lost[0]} is" if len(lost) == 1
+                           else f"frames {lost[0]}-{lost[-1]} are")
         if self._contiguous is not None:
             # one positioned read per frame: as fast as a memory map, but the pages read do
             # not stay resident, so memory does not grow with the length of the video
@@ -480,6 +532,65 @@ class MultiPageTiffReader(FootageReader):
             os.close(self._fd)
             self._contiguous = None
         self._tif.close()
+
+
+@contextlib.contextmanager
+def _quiet_tifffile() -> Iterator[None]:
+    """Turn tifffile's ERROR log lines about a damaged file into DEBUG lines meanwhile."""
+    tiff_logger = logging.getLogger("tifffile")
+    demote = _Demote()
+    tiff_logger.addFilter(demote)
+    try:
+        yield
+    finally:
+        tiff_logger.removeFilter(demote)
+
+
+class _Demote(logging.Filter):
+    def filter(self, record: logging.LogRecord) -> bool:
+        logger.debug("tifffile: %s", record.getMessage())
+        return False
+
+
+def _page_end(page: Any) -> int:
+    """File offset just past a page's pixel data."""
+    ends = [int(o) + int(n) for o, n in zip(page.dataoffsets, page.databytecounts, strict=False)]
+    return max(ends, default=0)
+
+
+def _claimed_pages(tif: Any, frame_px: int, n_pages: int) -> int:
+    """How many frames a TIFF says it holds: its pages, its series shape, or the shape
+    tifffile or ImageJ wrote into its description (those survive a file cut short, when
+    the page directories at the end of the file are lost)."""
+    counts = [n_pages]
+    try:
+        counts.append(int(np.prod(tif.series[0].shape)) // frame_px)
+    except Exception as exc:  # a damaged file: the pages still count
+        logger.debug("no series shape (%s)", one_line(exc))
+    for meta in tif.shaped_metadata or ():
+        if isinstance(meta, dict) and isinstance(meta.get("shape"), list | tuple):
+            counts.append(int(np.prod(meta["shape"])) // frame_px)
+    imagej = tif.imagej_metadata or {}
+    if isinstance(imagej.get("images"), int):
+        counts.append(int(imagej["images"]))
+    return max(counts)
+
+
+def _contiguous_offset(tif: Any, first_page: Any, frame_px: int, claimed: int) -> int | None:
+    """File offset of frame 0 when all frames lie uncompressed one after another, else None.
+
+    A stack written by tifffile (one shaped series) or ImageJ is contiguous by design; a
+    stack of other pages is contiguous when its single series says so.
+    """
+    if first_page.compression != 1 or first_page.is_tiled:
+        return None
+    series = tif.series[0]
+    if len(tif.series) == 1 and series.dataoffset is not None:
+        if int(np.prod(series.shape)) in (frame_px, claimed * frame_px):
+            return int(series.dataoffset)
+    if tif.is_imagej and first_page.dataoffsets:
+        return int(first_page.dataoffsets[0])
+    return None
 
 
 def _imagej_rate(tif: Any) -> float | None:

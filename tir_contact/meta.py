@@ -46,6 +46,7 @@ __all__ = [
     "find_meta",
     "load_meta",
     "option_flag",
+    "read_meta_json",
 ]
 
 #: Name of the metadata file beside the footage.
@@ -292,8 +293,8 @@ def _check_tree(data: dict[str, Any], where: str, prefix: str = "") -> None:
             _check_tree(data[name], where, prefix=key + ".")
 
 
-def _read_json(meta_path: Path) -> dict[str, Any]:
-    """Read ``meta.json``; every failure is a one-line :class:`FootageError`."""
+def read_meta_json(meta_path: Path) -> dict[str, Any]:
+    """Read ``meta.json`` as it is; every failure is a one-line :class:`FootageError`."""
     try:
         text = meta_path.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -390,7 +391,7 @@ def load_meta(
     meta_path = find_meta(path)
     data: dict[str, Any] = {}
     if meta_path is not None:
-        data = _read_json(meta_path)
+        data = read_meta_json(meta_path)
         _check_tree(data, f"{meta_path}:")
     file_fps = data.get("fps")
 
