@@ -761,10 +761,10 @@ class CineReader(FootageReader):
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
+        self._fd = -1
         file = Path(path)
         if not file.is_file():
             raise FootageError(f"{file}: not a file", file)
-        self._fd = -1
         try:
             self._fd = os.open(file, os.O_RDONLY | getattr(os, "O_BINARY", 0))
         except OSError as exc:
