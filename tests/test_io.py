@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import ctypes
 import json
 import logging
 import re
-import sys
 import tracemalloc
 from pathlib import Path
 
@@ -21,20 +19,15 @@ from numpy.testing import assert_array_equal
 from tir_contact._readers import natural_key, to_grey, unpack_12bit
 from tir_contact.io import (
     ArrayReader,
-    CineReader,
     FootageError,
     FootageReader,
     FrameFolderReader,
-    MrawReader,
     MultiPageTiffReader,
     VideoFileReader,
     load_meta,
     open_footage,
 )
 from tir_contact.meta import option_flag
-
-SAMPLES = Path(__file__).resolve().parents[2] / "shared" / "camera-samples"
-
 
 # --- helpers -----------------------------------------------------------------------------
 
@@ -75,28 +68,6 @@ def write_folder(folder: Path, frames: np.ndarray, ext: str, *, pattern="f{:d}")
     folder.mkdir(parents=True, exist_ok=True)
     for i, frame in enumerate(frames):
         write_image(folder / (pattern.format(i) + ext), frame)
-
-
-def pymraw_or_skip():
-    for name in ("pyMRAW", "pymraw"):
-        try:
-            return __import__(name)
-        except ImportError:
-            pass
-    pytest.skip("optional package pymraw (camera extra) is not installed")
-
-
-def pycine_or_skip() -> None:
-    try:
-        import pycine.file  # noqa: F401
-    except ImportError:
-        pytest.skip("optional package pycine (camera extra) is not installed")
-
-
-def samples_or_skip() -> Path:
-    if not (SAMPLES / "README.md").is_file():
-        pytest.skip(f"camera samples not found at {SAMPLES}")
-    return SAMPLES
 
 
 def traced_peak(run) -> int:
@@ -441,196 +412,6 @@ def test_corrupt_video(tmp_path):
     path.write_bytes(b"\x00garbage" * 50)
     with pytest.raises(FootageError, match=r"broken\.mp4: OpenCV cannot open it"):
         open_footage(path)
-
-
-# --- Photron MRAW ---------------------------------------------------------------------------
-
-
-def test_mraw_beam_sample():
-    samples = samples_or_skip()
-    pymraw_or_skip()
-    for name in ("beam.cihx", "beam.mraw"):
-        with open_footage(samples / name) as reader:
-            assert isinstance(reader, MrawReader)
-            assert len(reader) == 4
-            assert reader.frame_shape == (80, 1024)
-            assert reader.frame_rate == 50000.0
-            assert reader.bit_depth == 12
-            assert reader.dtype == np.uint16
-            assert max(int(frame.max()) for frame in reader) == 4095
-
-
-def test_mraw_12bit_packed_sample_matches_pymraw():
-    samples = samples_or_skip()
-    pymraw = pymraw_or_skip()
-    with open_footage(samples / "ball_12bit.cihx") as reader:
-        assert len(reader) == 15
-        assert reader.frame_shape == (384, 384)
-        assert reader.frame_rate == 30000.0
-        assert reader.bit_depth == 12
-        assert reader.cih["Color Bit"] == 12  # packed on disk
-        frames = list(reader)
-    assert max(int(f.max()) for f in frames) == 4095
-    reference, _ = pymraw.load_video(str(samples / "ball_12bit.cihx"))  # 3 MB, fine in a test
-    assert_array_equal(np.stack(frames), reference)
-
-
-def write_mraw(stem: Path, frames: np.ndarray, *, bits: int, side="Lower", effective=None):
-    """Write .mraw + .cih by hand (Photron layout), 8/16-bit words or 12-bit packed."""
-    n, h, w = frames.shape
-    if bits == 12:
-        data = pack_12bit(frames.ravel()).tobytes()
-    else:
-        data = frames.astype(np.uint8 if bits == 8 else "<u2").tobytes()
-    stem.with_suffix(".mraw").write_bytes(data)
-    lines = {
-        "Record Rate(fps)": "20000",
-        "Total Frame": n,
-        "Image Width": w,
-        "Image Height": h,
-        "Color Type": "Mono",
-        "Color Bit": bits,
-        "File Format": "MRaw",
-        "EffectiveBit Depth": effective or min(bits, 12),
-        "EffectiveBit Side": side,
-    }
-    text = "#Camera Information Header\n" + "".join(f"{k} : {v}\n" for k, v in lines.items())
-    stem.with_suffix(".cih").write_text(text + "\n")
-
-
-@pytest.mark.parametrize("bits", [8, 12, 16])
-def test_mraw_written_by_hand(tmp_path, bits):
-    pymraw_or_skip()
-    top = {8: 255, 12: 4095, 16: 4095}[bits]
-    rng = np.random.default_rng(1)
-    frames = rng.integers(0, top, size=(5, 6, 10), endpoint=True)
-    write_mraw(tmp_path / "hand", frames, bits=bits, effective=8 if bits == 8 else 12)
-    with open_footage(tmp_path / "hand.cih") as reader:
-        assert reader.frame_rate == 20000.0
-        assert reader.bit_depth == (8 if bits == 8 else 12)
-        assert_array_equal(np.stack(list(reader)), frames)
-
-
-def test_mraw_high_aligned_bits_are_shifted_down(tmp_path):
-    pymraw_or_skip()
-    frames = np.arange(2 * 4 * 6).reshape(2, 4, 6) * 50
-    write_mraw(tmp_path / "hi", frames << 4, bits=16, side="Higher", effective=12)
-    with open_footage(tmp_path / "hi.mraw") as reader:
-        assert_array_equal(reader.get_frame(1), frames[1])
-
-
-def test_mraw_truncated_and_missing_parts(tmp_path):
-    pymraw_or_skip()
-    write_mraw(tmp_path / "cut", np.zeros((4, 6, 10), int), bits=16)
-    raw = tmp_path / "cut.mraw"
-    raw.write_bytes(raw.read_bytes()[:-10])
-    with pytest.raises(FootageError, match=r"cut\.mraw: truncated: 470 bytes"):
-        open_footage(raw)
-    (tmp_path / "lonely.mraw").write_bytes(b"\0" * 8)
-    with pytest.raises(FootageError, match=r"lonely\.mraw: no \.cihx or \.cih header"):
-        open_footage(tmp_path / "lonely.mraw")
-    (tmp_path / "bad.cihx").write_text("<cih><nothing/></cih>")
-    (tmp_path / "bad.mraw").write_bytes(b"\0" * 8)
-    with pytest.raises(FootageError, match=r"bad\.cihx: unreadable header"):
-        open_footage(tmp_path / "bad.cihx")
-
-
-# --- Phantom CINE ---------------------------------------------------------------------------
-
-
-def test_cine_samples():
-    samples = samples_or_skip()
-    pycine_or_skip()
-    with open_footage(samples / "cine_781.cine") as reader:
-        assert isinstance(reader, CineReader)
-        assert len(reader) == 15
-        assert reader.frame_shape == (256, 256)
-        assert reader.frame_rate == 90000.0
-        assert reader.bit_depth == 12
-        assert all(int(f.max()) <= 4095 for f in reader)
-    with open_footage(samples / "cine_legacy.cine") as reader:
-        assert len(reader) == 97
-        assert reader.frame_shape == (128, 128)
-        assert reader.get_frame(96).shape == (128, 128)
-
-
-def write_cine(path: Path, frames: np.ndarray, *, fps=1000, real_bpp=None) -> None:
-    """A minimal uncompressed CINE file (headers from pycine, images stored bottom-up)."""
-    from pycine import cine
-
-    n, h, w = frames.shape[:3]
-    colour = frames.ndim == 4
-    itemsize = frames.dtype.itemsize
-    bits = 8 * itemsize * (3 if colour else 1)
-    setup = cine.SETUP()
-    setup.FrameRate = fps
-    setup.RealBPP = real_bpp or 8 * itemsize
-    off_offsets = 44 + 40 + ctypes.sizeof(setup)
-    image_bytes = h * w * bits // 8
-    first = off_offsets + 8 * n
-    offsets = [first + i * (8 + image_bytes) for i in range(n)]
-    cfh = cine.CINEFILEHEADER()
-    cfh.Type, cfh.Headersize, cfh.Version = 0x4943, 44, 1  # "CI"
-    cfh.ImageCount = cfh.TotalImageCount = n
-    cfh.OffImageHeader, cfh.OffSetup, cfh.OffImageOffsets = 44, 84, off_offsets
-    bih = cine.BITMAPINFOHEADER()
-    bih.biSize, bih.biWidth, bih.biHeight, bih.biPlanes = 40, w, h, 1
-    bih.biBitCount, bih.biSizeImage = bits, image_bytes
-    with open(path, "wb") as fh:
-        fh.write(bytes(cfh) + bytes(bih) + bytes(setup))
-        fh.write(np.array(offsets, "<i8").tobytes())
-        for frame in frames:
-            stored = frame[::-1, :, ::-1] if colour else frame[::-1]  # bottom-up, BGR
-            fh.write(np.uint32(8).tobytes() + np.uint32(image_bytes).tobytes())
-            fh.write(np.ascontiguousarray(stored).astype(frames.dtype.newbyteorder("<")).tobytes())
-
-
-@pytest.mark.parametrize(
-    ("dtype", "colour"),
-    [(np.uint8, False), (np.uint16, False), (np.uint8, True), (np.uint16, True)],
-)
-def test_cine_written_by_hand(tmp_path, dtype, colour):
-    pycine_or_skip()
-    frames = make_frames(4, dtype=dtype, colour=colour)
-    write_cine(tmp_path / "hand.cine", frames, fps=4000, real_bpp=None)
-    expected = luma(frames) if colour else frames
-    with open_footage(tmp_path / "hand.cine") as reader:
-        assert reader.frame_rate == 4000.0
-        assert_array_equal(np.stack(list(reader)), expected)  # row 0 is the top
-
-
-def test_cine_truncated_and_foreign(tmp_path):
-    pycine_or_skip()
-    path = tmp_path / "cut.cine"
-    write_cine(path, make_frames(3, dtype=np.uint16), real_bpp=12)
-    with open_footage(path) as reader:
-        assert reader.bit_depth == 12
-    path.write_bytes(path.read_bytes()[:-100])
-    reader = open_footage(path)
-    with pytest.raises(FootageError, match=r"cut\.cine \(frame 2\): truncated file"):
-        reader.get_frame(2)
-    reader.close()
-    path.write_bytes(b"XX" + b"\0" * 100)
-    with pytest.raises(FootageError, match=r"cut\.cine: not a Phantom CINE file"):
-        open_footage(path)
-
-
-# --- missing optional packages ----------------------------------------------------------------
-
-
-def test_missing_camera_extra_is_named(tmp_path, monkeypatch):
-    write_mraw(tmp_path / "m", np.zeros((2, 4, 4), int), bits=16)
-    try:
-        write_cine(tmp_path / "c.cine", make_frames(2))  # needs pycine's header structures
-    except ImportError:
-        pass
-    for name in ("pyMRAW", "pymraw", "pycine", "pycine.file"):
-        monkeypatch.setitem(sys.modules, name, None)  # makes `import name` fail
-    with pytest.raises(FootageError, match=r"m\.mraw: .*'pymraw'.*tir-contact\[camera\]"):
-        open_footage(tmp_path / "m.mraw")
-    if (tmp_path / "c.cine").exists():
-        with pytest.raises(FootageError, match=r"c\.cine: .*'pycine'.*tir-contact\[camera\]"):
-            open_footage(tmp_path / "c.cine")
 
 
 # --- open_footage ---------------------------------------------------------------------------

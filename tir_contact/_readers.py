@@ -1,20 +1,18 @@
 """Private helpers of the footage readers in :mod:`tir_contact.io`.
 
 Natural sorting of frame files, decoding one image file, colour to grey conversion, unpacking
-12-bit packed Photron data, the Phantom CINE header checks and the import of the optional
-camera packages. Nothing here is public API; :mod:`tir_contact.io` re-exports
-:class:`FootageError`.
+12-bit packed Photron data and message helpers. Nothing here is public API;
+:mod:`tir_contact.io` re-exports :class:`FootageError`. The camera file layouts live in
+:mod:`tir_contact._cih` (Photron headers) and :mod:`tir_contact._cine` (Phantom CINE).
 """
 
 from __future__ import annotations
 
-import importlib
 import logging
 import os
 import re
-import struct
+from collections.abc import Sequence
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -26,12 +24,11 @@ __all__ = [
     "COMPANION_SUFFIXES",
     "IMAGE_SUFFIXES",
     "FootageError",
-    "check_cine_head",
     "check_pixels",
     "decode_image_file",
-    "import_camera_package",
     "natural_key",
     "one_line",
+    "ranges_text",
     "size_text",
     "tiff_page_to_yxs",
     "to_grey",
@@ -294,75 +291,23 @@ def unpack_12bit(packed: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
-def import_camera_package(
-    names: tuple[str, ...], *, package: str, what: str, path: Path
-) -> ModuleType:
-    """Import an optional package of the ``camera`` extra, or explain how to install it.
+def ranges_text(numbers: Sequence[int]) -> str:
+    """Increasing integers as compact ranges, for messages.
 
-    Parameters
-    ----------
-    names : tuple of str
-        Module names to try in turn (e.g. ``("pyMRAW", "pymraw")``).
-    package : str
-        The distribution name on PyPI, for the message.
-    what : str
-        What the package is needed for, e.g. ``"Photron .mraw"``.
-    path : Path
-        The footage, for the message.
-
-    Returns
-    -------
-    module
-        The first module that imports.
-
-    Raises
-    ------
-    FootageError
-        Naming the ``camera`` extra when no name imports.
+    Examples
+    --------
+    >>> ranges_text([2, 3, 4, 9, 11, 12])
+    '2-4, 9, 11-12'
     """
-    for name in names:
-        try:
-            return importlib.import_module(name)
-        except ImportError:
-            logger.debug("import %s failed", name)
-    raise FootageError(
-        f"{path}: reading {what} needs the optional package '{package}', which is not "
-        "installed: pip install 'tir-contact[camera]'",
-        path,
-    )
-
-
-# --- Phantom CINE ------------------------------------------------------------------------
-
-#: Start of the CINEFILEHEADER: Type, Headersize, Compression, Version, FirstMovieImage,
-#: TotalImageCount, FirstImageNo, ImageCount, OffImageHeader, OffSetup, OffImageOffsets.
-_CINE_HEAD = struct.Struct("<2sHHHiIiIIII")
-
-
-def check_cine_head(path: Path, size: int) -> None:
-    """Check the signature and offsets of a CINE file before pycine reads its header.
-
-    pycine reads ``ImageCount`` offsets without checks; a foreign file could make it read
-    gigabytes. This reads the first 36 bytes and checks them against the file size.
-
-    Parameters
-    ----------
-    path : Path
-        The file.
-    size : int
-        Its size in bytes.
-    """
-    with open(path, "rb") as fh:
-        head = fh.read(_CINE_HEAD.size)
-    if len(head) < _CINE_HEAD.size or head[:2] != b"CI":
-        raise FootageError(f"{path}: not a Phantom CINE file (no 'CI' signature)", path)
-    fields = _CINE_HEAD.unpack(head)
-    image_count, off_header, off_setup, off_offsets = fields[7], fields[8], fields[9], fields[10]
-    if image_count == 0:
-        raise FootageError(f"{path}: CINE file holds no images (ImageCount 0)", path)
-    if max(off_header, off_setup) >= size or off_offsets + 8 * image_count > size:
-        raise FootageError(
-            f"{path}: truncated or corrupt CINE header (offsets point past the end of the "
-            f"{size}-byte file)",
-            path,
-        )
+    parts: list[str] = []
+    if not numbers:
+        return ""
+    start = prev = numbers[0]
+    for k in [*numbers[1:], None]:
+        if k is not None and k == prev + 1:
+            prev = k
+            continue
+        parts.append(str(start) if start == prev else f"{start}-{prev}")
+        if k is not None:
+            start = prev = k
+    return ", ".join(parts)

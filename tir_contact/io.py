@@ -34,17 +34,18 @@ from typing import Any, ClassVar, Self
 
 import numpy as np
 
+from tir_contact._cih import CihFormatError, read_cih
+from tir_contact._cine import CineFormatError, ImageRecord, read_cine_header, scan_images
 from tir_contact._readers import (
     COMPANION_NAMES,
     COMPANION_SUFFIXES,
     IMAGE_SUFFIXES,
     FootageError,
-    check_cine_head,
     check_pixels,
     decode_image_file,
-    import_camera_package,
     natural_key,
     one_line,
+    ranges_text,
     size_text,
     tiff_page_to_yxs,
     to_grey,
@@ -712,22 +713,33 @@ class VideoFileReader(FootageReader):
 class MrawReader(FootageReader):
     """Photron MRAW footage: ``.mraw`` data with its ``.cihx`` or ``.cih`` header.
 
-    Needs the ``camera`` extra (pymraw, imported as ``pyMRAW``) to parse the header.
-
     Parameters
     ----------
     path : str or os.PathLike
         The ``.mraw``, ``.cihx`` or ``.cih`` file; the other one has the same name beside it
         (``.cihx`` is preferred to ``.cih``).
 
+    Attributes
+    ----------
+    cih : dict
+        The header's fields keyed by their ``.cih`` names (``"Record Rate(fps)"``,
+        ``"Total Frame"``, ``"Color Bit"``, ...), also for a ``.cihx`` header.
+    header_path : Path
+        The ``.cihx`` or ``.cih`` file.
+
     Notes
     -----
-    8- and 16-bit data are memory-mapped; 12-bit packed data (two pixels in three bytes)
-    are memory-mapped as bytes and unpacked one frame at a time. ``bit_depth`` is the
-    header's effective bit depth; data aligned to the high bits (``EffectiveBit Side``
-    ``Higher``) are shifted down so values run from 0 to ``2**bit_depth - 1``. Pixels are
-    read as stored (colour sensors give their raw mosaic). The frame rate is the header's
-    record rate.
+    The header is parsed by the package itself (no optional package needed). 8- and 16-bit
+    data are memory-mapped; 12-bit packed data (two pixels in three bytes) are memory-mapped
+    as bytes and unpacked one frame at a time. ``bit_depth`` is the header's effective bit
+    depth; data aligned to the high bits (``EffectiveBit Side`` ``Higher``) are shifted
+    down so values run from 0 to ``2**bit_depth - 1``. Pixels are read as stored (colour
+    sensors give their raw mosaic). The frame rate is the header's record rate.
+
+    A data file shorter than the header's ``Total Frame`` frames (a copy cut short) is
+    read up to its last whole frame: ``len(reader)`` is the number of whole frames and
+    :attr:`lost_frames` names the others (frame numbers count from 0 in file order); a
+    WARNING is logged. Only a data file without one whole frame is an error.
     """
 
     kind = "mraw"
@@ -747,12 +759,9 @@ class MrawReader(FootageReader):
         raw = file.with_suffix(".mraw")
         if not raw.is_file():
             raise FootageError(f"{header}: no .mraw data file beside the header", header)
-        pymraw = import_camera_package(
-            ("pyMRAW", "pymraw"), package="pymraw", what="Photron .mraw", path=file
-        )
         try:
-            cih = pymraw.get_cih(str(header))
-        except Exception as exc:
+            cih = read_cih(header)
+        except (CihFormatError, OSError) as exc:
             raise FootageError(f"{header}: unreadable header ({one_line(exc)})", header) from exc
         self.header_path = header
         self.path = raw
@@ -785,22 +794,30 @@ class MrawReader(FootageReader):
             raise FootageError(f"{header}: 12-bit packed frames need an even pixel count", header)
         frame_bytes = h * w * bits // 8
         size = raw.stat().st_size
-        if size < n * frame_bytes:
+        whole = min(size // frame_bytes, n)
+        if whole == 0:
             raise FootageError(
-                f"{raw}: truncated: {size} bytes, the header's {n} frames of {w} x {h} px at "
-                f"{bits} bits need {n * frame_bytes}",
+                f"{raw}: truncated: {size} bytes, not one whole frame of the header's {n} "
+                f"frames of {w} x {h} px at {bits} bits ({frame_bytes} bytes each)",
                 raw,
             )
-        if size > n * frame_bytes:
+        if whole < n:
+            self._lost_frames = tuple(range(whole, n))
+            logger.warning(
+                "%s: truncated: %d bytes hold %d of the header's %d frames; %d frames lost "
+                "(frames %s)",
+                raw, size, whole, n, n - whole, ranges_text(self._lost_frames),
+            )
+        elif size > n * frame_bytes:
             logger.debug("%s: %d bytes after the last frame ignored", raw, size - n * frame_bytes)
         self._packed = bits == 12
         if self._packed:
-            self._data = np.memmap(raw, dtype=np.uint8, mode="r", shape=(n, frame_bytes))
+            self._data = np.memmap(raw, dtype=np.uint8, mode="r", shape=(whole, frame_bytes))
         else:
             dtype = np.uint8 if bits == 8 else np.dtype("<u2")
-            self._data = np.memmap(raw, dtype=dtype, mode="r", shape=(n, h, w))
+            self._data = np.memmap(raw, dtype=dtype, mode="r", shape=(whole, h, w))
         self._shift = bits - effective if side == "higher" and bits in (8, 16) else 0
-        self._length = n
+        self._length = whole
         self._hw = (h, w)
         self._frame_rate = rate if rate > 0 else None
         self._set_format(self._read(0), bit_depth=min(effective, 16))
@@ -821,104 +838,122 @@ class MrawReader(FootageReader):
 class CineReader(FootageReader):
     """Vision Research Phantom ``.cine`` footage.
 
-    Needs the ``camera`` extra (pycine) to parse the header.
-
     Parameters
     ----------
     path : str or os.PathLike
         The ``.cine`` file.
 
+    Attributes
+    ----------
+    header : CineHeader
+        The header fields read (``image_count``, ``first_image_no``, ``width``, ``height``,
+        ``bit_count``, ``frame_rate``, ``real_bpp``, ``image_offsets``, ...).
+
     Notes
     -----
-    Reads uncompressed 8- and 16-bit grey images and uncompressed 24/48-bit colour images
-    (BGR, converted to grey), one image per :meth:`get_frame` from the offsets in the file.
+    The file layout is read by the package itself (no optional package needed). Reads
+    uncompressed 8- and 16-bit grey images and uncompressed 24/48-bit colour images (BGR,
+    converted to grey), one image per :meth:`get_frame` from the offsets in the file.
     Values are raw as stored (no black/white level or LUT applied); images stored bottom-up
     (positive ``biHeight``) are flipped so that row 0 is the top. ``bit_depth`` is the
-    header's ``RealBPP``. JPEG-compressed, raw-Bayer (uninterpolated) and packed 10/12-bit
-    files are refused with a message. The frame rate is the setup's ``FrameRate``.
+    setup's ``RealBPP``. JPEG-compressed, raw-Bayer (uninterpolated) and packed 10/12-bit
+    files are refused with a message. The frame rate is the setup's ``FrameRate``
+    (``FrameRate16`` in files whose setup predates it).
+
+    Frame numbers count the stored images from 0 in file order; the camera's own numbering
+    relative to the trigger starts at ``header.first_image_no`` (often negative). Images
+    whose record runs past the end of the file (a copy cut short) or whose record header
+    is corrupt are lost: they are listed in :attr:`lost_frames`, the others are read
+    (``len(reader)`` counts them, :attr:`frame_numbers` keeps their numbers) and a WARNING
+    is logged. Only a file without one intact image is an error.
     """
 
     kind = "cine"
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
+        self._fd = -1
         file = Path(path)
         if not file.is_file():
             raise FootageError(f"{file}: not a file", file)
-        size = file.stat().st_size
-        check_cine_head(file, size)
-        pycine_file = import_camera_package(
-            ("pycine.file",), package="pycine", what="Phantom .cine", path=file
-        )
         try:
-            header = pycine_file.read_header(str(file))
-        except Exception as exc:
-            raise FootageError(
-                f"{file}: truncated or corrupt CINE header ({one_line(exc)})", file
-            ) from exc
-        cfh, bih, setup = header["cinefileheader"], header["bitmapinfoheader"], header["setup"]
+            self._fd = os.open(file, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+        except OSError as exc:
+            raise FootageError(f"{file}: cannot be read ({exc.strerror or exc})", file) from exc
+        try:
+            self._open(file)
+        except BaseException:
+            self.close()
+            raise
+
+    def _open(self, file: Path) -> None:
+        size = os.fstat(self._fd).st_size
+        try:
+            header = read_cine_header(self._fd, size)
+        except CineFormatError as exc:
+            raise FootageError(f"{file}: {exc}", file) from exc
         self.header = header
-        self._offsets = [int(p) for p in header["pImage"]]
-        if cfh.Compression != 0:
+        if header.compression != 0:
             what = {1: "JPEG-compressed", 2: "raw Bayer (uninterpolated)"}.get(
-                cfh.Compression, f"compression {cfh.Compression}"
+                header.compression, f"compression {header.compression}"
             )
             raise FootageError(f"{file}: {what} CINE files are not supported", file)
-        if bih.biCompression != 0:
+        if header.bi_compression != 0:
             raise FootageError(
-                f"{file}: packed pixel data (biCompression {bih.biCompression}) not supported; "
-                "save the cine uncompressed (8 or 16 bit)",
+                f"{file}: packed pixel data (biCompression {header.bi_compression}) not "
+                "supported; save the cine uncompressed (8 or 16 bit)",
                 file,
             )
-        bits = int(bih.biBitCount)
+        bits = header.bit_count
         if bits not in (8, 16, 24, 48):
             raise FootageError(f"{file}: {bits} bits per pixel not supported", file)
         self._channels = 3 if bits in (24, 48) else 1
         self._dtype_file = np.dtype(np.uint8) if bits in (8, 24) else np.dtype("<u2")
-        self._w = int(bih.biWidth)
-        self._h = abs(int(bih.biHeight))
-        self._flip = int(bih.biHeight) > 0
+        self._w = header.width
+        self._h = abs(header.height)
+        self._flip = header.height > 0
         if self._w < 1 or self._h < 1:
             raise FootageError(f"{file}: header says {self._w} x {self._h} px images", file)
         self._frame_bytes = self._w * self._h * bits // 8
-        self._size = size
-        self._length = int(cfh.ImageCount)
-        rate = int(setup.FrameRate) or int(setup.FrameRate16)
-        self._frame_rate = float(rate) if rate > 0 else None
+        records = scan_images(self._fd, size, header.image_offsets, self._frame_bytes)
+        intact = [i for i, r in enumerate(records) if not r.problem]
+        lost = [i for i, r in enumerate(records) if r.problem]
+        if not intact:
+            raise FootageError(f"{self._frame_name(0)}: {self._problem(records[0])}", file)
+        if lost:
+            first = records[lost[0]]
+            logger.warning(
+                "%s: %d of the header's %d images lost (frames %s), %d intact read; "
+                "first lost, frame %d: %s",
+                file, len(lost), len(records), ranges_text(lost), len(intact), lost[0],
+                self._problem(first),
+            )
+            self._lost_frames = tuple(lost)
+            self._frame_numbers = np.asarray(intact, dtype=np.int64)
+        self._data_offsets = [records[i].data_offset for i in intact]
+        self._length = len(intact)
+        self._frame_rate = float(header.frame_rate) if header.frame_rate > 0 else None
         storage = self._dtype_file.itemsize * 8
-        real = int(setup.RealBPP)
-        self._fh = open(file, "rb")
-        try:
-            first = self._read(0)
-        except BaseException:
-            self._fh.close()
-            raise
-        self._set_format(first, bit_depth=real if 8 <= real <= storage else storage)
+        real = header.real_bpp or 0
+        self._set_format(self._read(0), bit_depth=real if 8 <= real <= storage else storage)
+
+    def _problem(self, record: ImageRecord) -> str:
+        """A lost image's problem, with the expected size where the size is wrong."""
+        if record.problem.startswith("image holds"):
+            return f"{record.problem} for {self._w} x {self._h} px (truncated or corrupt file)"
+        return record.problem
+
+    def _frame_name(self, index: int) -> str:
+        number = index if self._frame_numbers is None else int(self._frame_numbers[index])
+        return f"{self._name()} (frame {number})"
 
     def _read(self, index: int) -> np.ndarray:
-        fh = self._fh
-        start = self._offsets[index]
-        name = self._frame_name(index)
-        fh.seek(start)
-        head = fh.read(4)
-        if len(head) < 4:
-            raise FootageError(f"{name}: truncated file (image offset past the end)", self.path)
-        annotation = int.from_bytes(head, "little")
-        if annotation < 8:
-            raise FootageError(f"{name}: corrupt image header", self.path)
-        fh.seek(start + annotation - 4)
-        size_bytes = fh.read(4)
-        image_size = int.from_bytes(size_bytes, "little") if len(size_bytes) == 4 else -1
-        if image_size != self._frame_bytes:
+        data = os.pread(self._fd, self._frame_bytes, self._data_offsets[index])
+        if len(data) != self._frame_bytes:
             raise FootageError(
-                f"{name}: image holds {image_size} bytes, {self._frame_bytes} expected for "
-                f"{self._w} x {self._h} px (truncated or corrupt file)",
+                f"{self._frame_name(index)}: truncated file ({len(data)} of "
+                f"{self._frame_bytes} bytes)",
                 self.path,
-            )
-        data = fh.read(image_size)
-        if len(data) != image_size:
-            raise FootageError(
-                f"{name}: truncated file ({len(data)} of {image_size} bytes)", self.path
             )
         image = np.frombuffer(data, dtype=self._dtype_file)
         shape = (self._h, self._w, 3) if self._channels == 3 else (self._h, self._w)
@@ -928,7 +963,9 @@ class CineReader(FootageReader):
         return np.array(to_grey(image, order="bgr"), dtype=self._dtype_file.newbyteorder("="))
 
     def _release(self) -> None:
-        self._fh.close()
+        fd, self._fd = self._fd, -1
+        if fd >= 0:
+            os.close(fd)
 
 
 #: Reader classes in the order :func:`open_footage` tries them.
