@@ -785,8 +785,8 @@ def analyze_video(
         skipped.sort(key=lambda s: s["frame"])
         summary = _summary(path, name, setup, options, frames_df, elements_df, skipped, elapsed,
                            lost=list(reader.lost_frames))
-        for text in summary["warnings"]:
-            logger.warning("%s: %s", path, text)
+        for text in summary["warnings"]:  # the batch (and the CLI) reports them as warnings
+            logger.info("%s: %s", path, text)
         result = VideoAnalysis(frames_df, elements_df, regions_df, summary, None, skipped)
         if out is not None:
             result.out_dir = _write(result, Path(out) / name, reader, analyser, video)

@@ -105,7 +105,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # --help, --version and argparse's usage errors
         return int(exc.code or 0) if isinstance(exc.code, int) else USAGE_ERROR
     level = {0: logging.WARNING, 1: logging.INFO}.get(args.verbose, logging.DEBUG)
-    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+    fmt = "%(levelname)s: %(message)s" if args.verbose == 0 else (
+        "%(levelname)s %(name)s: %(message)s")
+    logging.basicConfig(level=level, format=fmt)
     if args.quiet:
         args.no_progress = True
     prog = f"tir-contact {args.command}"

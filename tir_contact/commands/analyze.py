@@ -107,5 +107,8 @@ def run(args: argparse.Namespace) -> int:
     for v in report.failed:
         print(f"{v.status}: {v.path}: {v.message}", file=sys.stderr)
     summary = ", ".join(f"{n} {s}" for s, n in sorted(counts.items()))
+    warned = sum(1 for v in report.videos if v.warnings)
+    if warned:
+        summary += f"; {warned} with warnings (see above and batch_report.csv)"
     print(f"analysed {len(report.videos)} video(s) into {args.out}: {summary}")
     return 0 if report.ok else 1
