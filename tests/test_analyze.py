@@ -46,9 +46,19 @@ def clip(tmp_path_factory) -> Path:
 @pytest.fixture(scope="module")
 def analysed(clip, tmp_path_factory) -> tuple[Path, Path]:
     out = tmp_path_factory.mktemp("out")
-    code = main(["analyze", str(clip), "--out", str(out), "--workers", "1", "--no-progress"])
+    code = main(["analyze", str(clip), "--out", str(out), "--workers", "1", "--no-progress",
+                 "--plots", "--overlay-video"])
     assert code == 0
     return clip, out / clip.name
+
+
+def test_default_outputs_are_the_cheap_ones(clip, tmp_path):
+    out = tmp_path / "out"
+    assert main(["analyze", str(clip), "--out", str(out), "--workers", "1", "-q"]) == 0
+    files = sorted(p.name for p in (out / clip.name).iterdir())
+    # tables, summary and a few overlay images; no plots, no overlay video unless asked
+    assert "overlay.avi" not in files and not [f for f in files if f.endswith(".png")]
+    assert {"frames.csv", "elements.csv", "summary.json", "overlays"} <= set(files)
 
 
 def test_outputs_have_the_issue_columns_and_files(analysed):
@@ -234,7 +244,7 @@ def test_a_failure_while_writing_keeps_the_old_result(clip, tmp_path, monkeypatc
 
     monkeypatch.setattr("tir_contact.plots.plot_video_results", boom)
     with pytest.raises(RuntimeError):
-        analyze_video(clip, out, options=AnalysisOptions(overlay_video=False, parquet=False))
+        analyze_video(clip, out, options=AnalysisOptions(plots=True, parquet=False))
     assert (out / clip.name / "frames.csv").read_bytes() == before
     assert [p.name for p in out.iterdir()] == [clip.name]
 
@@ -256,7 +266,7 @@ def test_side_view_deflection_against_ground_truth(tmp_path):
     """Side view through the pipeline: median angle error <= 0.5 deg (issue requirement)."""
     folder = _render(tmp_path / "side", view="side", preset="G7")
     res = analyze_video(folder, tmp_path / "out", options=AnalysisOptions(
-        overlay_video=True, overlay_frames=2, parquet=False))
+        overlay_video=True, overlay_frames=2, parquet=False, plots=True))
     truth = pd.read_csv(folder / "ground_truth.csv")
     el = truth[(truth.element >= 0) & truth.in_view]
     merged = el.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))

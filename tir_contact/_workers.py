@@ -22,16 +22,22 @@ __all__ = ["context", "init_worker", "parent_alive"]
 WATCH_INTERVAL_S = 0.5
 
 #: Modules the fork server imports once, so that each worker starts without importing them.
-_PRELOAD = ["tir_contact.analyze"]
+_PRELOAD = ["tir_contact.analyze", "tir_contact._outdir"]
 
 
 def context() -> BaseContext:
     """The start method of the batch's workers.
 
-    ``forkserver`` on POSIX (a clean process without the parent's threads, forked from a
-    server that has imported the analysis once), ``spawn`` elsewhere.
+    On Linux, while the calling process runs no other thread, ``fork``: the workers start
+    at once with everything the parent imported (importing the analysis takes about a
+    second, as long as a short video's analysis). Forking a process that runs threads can
+    deadlock the child, so otherwise, and on other POSIX systems, ``forkserver`` (workers
+    forked from a clean server that imports the analysis once); ``spawn`` elsewhere.
     """
-    if sys.platform != "win32" and "forkserver" in multiprocessing.get_all_start_methods():
+    methods = multiprocessing.get_all_start_methods()
+    if sys.platform.startswith("linux") and threading.active_count() == 1 and "fork" in methods:
+        return multiprocessing.get_context("fork")
+    if sys.platform != "win32" and "forkserver" in methods:
         ctx = multiprocessing.get_context("forkserver")
         ctx.set_forkserver_preload(_PRELOAD)
         return ctx

@@ -143,14 +143,16 @@ class AnalysisOptions:
         Overlay images written (first, middle and last frames with the block, the frame of
         largest contact, ...).
     overlay_video : bool
-        Write ``overlay.avi`` (every k-th frame, at most ``overlay_video_max_frames``).
+        Write ``overlay.avi`` (every k-th frame, at most ``overlay_video_max_frames``). Off
+        by default: drawing and encoding the frames costs about as much as the analysis.
     overlay_video_max_frames : int
         Frame budget of the overlay video.
     regions : {"auto", "always", "never"}
         Write ``regions.csv`` (every contact region: area, centroid, bounding box).
         ``"auto"``: only when no block geometry is known (then it is the main result).
     plots : bool
-        Write the PNG plots.
+        Write the PNG plots of the results over time (:mod:`tir_contact.plots`). Off by
+        default: matplotlib costs about 0.1 s a video, and 1 s in each new process.
     parquet : bool
         Also write Parquet copies of the tables when pyarrow is installed.
     """
@@ -164,10 +166,10 @@ class AnalysisOptions:
     min_block_fraction: float = 0.02
     closing_size_px: int = 101
     overlay_frames: int = 4
-    overlay_video: bool = True
+    overlay_video: bool = False
     overlay_video_max_frames: int = 400
     regions: str = "auto"
-    plots: bool = True
+    plots: bool = False
     parquet: bool = True
 
     def __post_init__(self) -> None:

@@ -320,8 +320,6 @@ def analyze_batch(
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    from tqdm import tqdm
-
     options = options or AnalysisOptions()
     out_path = Path(out)
     out_path.mkdir(parents=True, exist_ok=True)
@@ -341,11 +339,13 @@ def analyze_batch(
     lines = progress is None and not bars
     # per-video bars only where they cannot interleave (one worker, a terminal)
     video_progress = bars and n_workers == 1 and scheduler is None
-    bar = tqdm(total=len(items), desc="videos", unit="video", disable=not bars,
-               initial=len(items) - len(todo), position=0, dynamic_ncols=True)
+    bar: Any = None  # made after the workers started: its display thread must not be forked
 
     def finish(status: VideoStatus) -> None:
+        nonlocal bar
         report.videos.append(status)
+        if bar is None:
+            bar = _bar(len(items), len(items) - len(todo), bars)
         bar.update(1)
         if status.status == "failed":
             logger.error("%s: %s", status.path, status.message)
@@ -361,6 +361,7 @@ def analyze_batch(
         if scheduler is not None:
             _run_dask(todo, out_path, overrides, options, scheduler, finish)
         elif n_workers == 1:
+            bar = _bar(len(items), len(items) - len(todo), bars)
             for it in todo:
                 finish(_run_one(it, str(out_path), overrides, options, video_progress, 1))
         else:
@@ -371,6 +372,7 @@ def analyze_batch(
                     pool.submit(_run_one, it, str(out_path), overrides, options, False, 0): it
                     for it in todo
                 }
+                bar = _bar(len(items), len(items) - len(todo), bars)
                 for fut in as_completed(futures):
                     it = futures[fut]
                     try:
@@ -380,9 +382,17 @@ def analyze_batch(
                                              f"worker failed: {_message(exc, str(it.path))}")
                     finish(status)
     finally:
-        bar.close()
+        if bar is not None:
+            bar.close()
     _write_report(report, out_path, items)
     return report
+
+
+def _bar(total: int, done: int, show: bool) -> Any:
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc="videos", unit="video", disable=not show, initial=done,
+                position=0, dynamic_ncols=True)
 
 
 def _print_line(status: VideoStatus, done: int, total: int) -> None:

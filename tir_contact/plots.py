@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -10,17 +11,31 @@ import pandas as pd
 __all__ = ["plot_video_results"]
 
 
-def _save(fig, path: Path) -> Path:
+#: Resolution of the PNG plots (dots per inch).
+DPI = 90
+
+
+def _figure(width_in: float, height_in: float) -> Any:
+    """A figure outside pyplot's global state (nothing to close, nothing shared)."""
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width_in, height_in), layout="constrained")
+
+
+def _save(fig: Any, path: Path) -> Path:
     from tir_contact._outdir import atomic_write
 
-    atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
+    atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=DPI))
     return path
 
 
-def _shade_full(ax, frames: pd.DataFrame) -> None:
+def _legend(ax: Any, **kw: Any) -> None:
+    """A legend when something carries a label (an empty one warns)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**kw)
+
+
+def _shade_full(ax: Any, frames: pd.DataFrame) -> None:
     """Shade the time span where the whole block is in view."""
     full = frames.loc[frames["block_fully_in_view"].astype(bool), "time_s"]
     if len(full):
@@ -58,16 +73,12 @@ def plot_video_results(
     list of Path
         The files written.
     """
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
     folder = Path(folder)
     written: list[Path] = []
     t_ms = frames["time_s"].to_numpy() * 1e3
     if view == "tir":
-        fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+        fig = _figure(8, 5.5)
+        a1, a2 = fig.subplots(2, 1, sharex=True)
         for ax in (a1, a2):
             _shade_full(ax, frames)
         a1.plot(t_ms, frames["contact_area_mm2"], lw=1)
@@ -75,9 +86,8 @@ def plot_video_results(
         a2.plot(t_ms, frames["contact_ratio"], lw=1, color="C1")
         a2.set_ylabel("contact ratio (–)")
         a2.set_xlabel("time (ms)")
-        a1.legend(loc="upper right", fontsize=8)
+        _legend(a1, loc="upper right", fontsize=8)
         a1.set_title(title)
-        fig.tight_layout()
         written.append(_save(fig, folder / "contact.png"))
         quantities = [("contact_area_mm2", "contact area (mm²)"),
                       ("contact_length_mm", "contact length (mm)"),
@@ -88,8 +98,8 @@ def plot_video_results(
                       ("tip_deflection_mm", "tip deflection (mm)")]
         name = "deflection.png"
     if len(elements):
-        fig, axes = plt.subplots(len(quantities), 1, figsize=(8, 2.4 * len(quantities)),
-                                 sharex=True, squeeze=False)
+        fig = _figure(8, 2.4 * len(quantities))
+        axes = fig.subplots(len(quantities), 1, sharex=True, squeeze=False)
         for ax, (col, label) in zip(axes[:, 0], quantities, strict=True):
             _shade_full(ax, frames)
             if col in elements:
@@ -99,12 +109,12 @@ def plot_video_results(
         axes[-1, 0].set_xlabel("time (ms)")
         n_el = elements["element"].nunique()
         if n_el <= 8:
-            axes[0, 0].legend(loc="upper right", fontsize=7, ncol=min(n_el + 1, 4))
+            _legend(axes[0, 0], loc="upper right", fontsize=7, ncol=min(n_el + 1, 4))
         axes[0, 0].set_title(title)
-        fig.tight_layout()
         written.append(_save(fig, folder / name))
     elif view != "tir":
-        fig, ax = plt.subplots(figsize=(8, 3))
+        fig = _figure(8, 3)
+        ax = fig.subplots()
         ax.plot(t_ms, np.full_like(t_ms, np.nan))
         ax.set_title(f"{title}: no element found in any frame")
         written.append(_save(fig, folder / name))

@@ -2,9 +2,9 @@
 
 Each PATH is a footage folder or video file, or with ``--recursive`` a tree searched for
 them. Results go to ``OUT/<video name>/`` (``frames.csv``, ``elements.csv``, ``regions.csv``,
-Parquet copies, ``summary.json``, plots, overlay images and ``overlay.avi``), written
-atomically. A broken video is reported and skipped; the exit code is 1 when anything failed,
-2 for bad arguments.
+Parquet copies, ``summary.json`` and overlay images; with ``--plots`` PNG plots, with
+``--overlay-video`` ``overlay.avi``), written atomically. A broken video is reported and
+skipped; the exit code is 1 when anything failed, 2 for bad arguments.
 """
 
 from __future__ import annotations
@@ -59,8 +59,11 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                    help="drop contact regions smaller than this (px, default 4)")
     g.add_argument("--overlay-frames", type=int, default=4, metavar="N",
                    help="overlay images per video (default 4, 0: none)")
-    g.add_argument("--no-overlay-video", action="store_true", help="do not write overlay.avi")
-    g.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+    g.add_argument("--overlay-video", action=argparse.BooleanOptionalAction, default=False,
+                   help="write overlay.avi, the footage with what was found drawn on it "
+                        "(default: off; it costs about as much as the analysis)")
+    g.add_argument("--plots", action=argparse.BooleanOptionalAction, default=False,
+                   help="write PNG plots of each video's results over time (default: off)")
     m = p.add_argument_group(
         "metadata", "override or give meta.json values (see docs/formats.md)"
     )
@@ -90,8 +93,8 @@ def run(args: argparse.Namespace) -> int:
             contrast=args.contrast,
             min_area_px=args.min_area_px,
             overlay_frames=max(0, args.overlay_frames),
-            overlay_video=not args.no_overlay_video,
-            plots=not args.no_plots,
+            overlay_video=args.overlay_video,
+            plots=args.plots,
         )
         footage = find_footage(args.paths, recursive=args.recursive)
     except (FootageError, ValueError) as exc:
