@@ -228,6 +228,8 @@ def test_resume_skips_current_results_and_redoes_changed_ones(clip, tmp_path):
     assert first.ok and is_current(items[0], out)
     again = analyze_batch(items, out, options=FAST, workers=1, progress=False, resume=True)
     assert [v.status for v in again.videos] == ["resumed"]
+    # the report of a resumed video keeps what its results hold
+    assert again.videos[0].n_frames == first.videos[0].n_frames == 160
     (src / "meta.json").write_text((src / "meta.json").read_text() + " ")  # footage changed
     assert not is_current(items[0], out)
     third = analyze_batch(items, out, options=FAST, workers=1, progress=False, resume=True)

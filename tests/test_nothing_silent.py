@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -257,3 +258,14 @@ def test_workers_die_with_the_batch(tmp_path, method):
     for p in left:  # do not leave them behind even when the test fails
         os.kill(p, signal.SIGKILL)
     assert not left
+
+
+def test_clip_folder_with_a_broken_meta_json_names_the_json_error(clip, tmp_path):
+    broken = tmp_path / "broken"
+    shutil.copytree(clip, broken)
+    text = (broken / "meta.json").read_text()
+    (broken / "meta.json").write_text(text.replace('"fps":', '"fps"', 1))  # a colon lost
+    out = tmp_path / "out"
+    assert main(["analyze", str(broken), "--out", str(out), *QUIET]) == 1
+    message = pd.read_csv(out / "batch_report.csv").loc[0, "message"]
+    assert message.startswith("meta.json: not valid JSON (Expecting ':' delimiter at line")

@@ -220,6 +220,15 @@ def is_current(footage: Footage, out: Path) -> bool:
             and not summary.get("lost_frames"))
 
 
+def _resumed(footage: Footage, out: Path) -> VideoStatus:
+    """The status of a video whose results are complete and current, from its summary."""
+    summary = json.loads((out / footage.name / "summary.json").read_text(encoding="utf-8"))
+    return VideoStatus(footage.name, str(footage.path), "resumed",
+                       "results complete and current",
+                       n_frames=int(summary.get("n_frames_analysed", 0)),
+                       warnings=list(summary.get("warnings", [])))
+
+
 def _run_one(footage: Footage, out: str, overrides: Mapping[str, Any] | None,
              options: AnalysisOptions, progress: bool | None, position: int) -> VideoStatus:
     """Analyse one video, turning any failure into a status (runs in a worker)."""
@@ -329,8 +338,7 @@ def analyze_batch(
     todo: list[Footage] = []
     for it in items:
         if resume and is_current(it, out_path):
-            report.videos.append(VideoStatus(it.name, str(it.path), "resumed",
-                                             "results complete and current"))
+            report.videos.append(_resumed(it, out_path))
         else:
             todo.append(it)
     n_workers = max(1, workers if workers is not None else (os.cpu_count() or 1))
