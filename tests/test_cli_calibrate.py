@@ -235,7 +235,9 @@ def test_calibrate_errors_and_exit_codes(tmp_path, capsys):
     assert err.count("\n") == 1 and "missing column 'velocity_mps'" in err
     assert main(["calibrate", "--footage", str(tmp_path), "--out", out]) == 2
     assert "frames.csv does not exist" in capsys.readouterr().err
-    assert main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"]) == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"])
+    assert exc.value.code == 2
 
 
 def test_simulate_errors(tmp_path, capsys):

@@ -142,7 +142,9 @@ def test_forced_instationary_flag(tmp_path):
 
 @pytest.mark.parametrize("bad", [["--bin-width", "0"], ["--bin-width", "x"], ["--mass-kg", "-1"]])
 def test_bad_option_values(tmp_path, bad):
-    assert main(["evaluate", str(tmp_path), "--out", str(tmp_path / "o"), *bad]) == 2
+    with pytest.raises(SystemExit) as info:
+        main(["evaluate", str(tmp_path), "--out", str(tmp_path / "o"), *bad])
+    assert info.value.code == 2
 
 
 def test_empty_folder_fails(tmp_path, capsys):

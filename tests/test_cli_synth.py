@@ -175,12 +175,15 @@ def test_strength_option_applies_to_all_or_pairwise():
     ],
 )
 def test_argparse_errors_exit_2_naming_the_option(argv, message, capsys):
-    assert main(["synth", "measurements", *argv]) == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["synth", "measurements", *argv])
+    assert exc.value.code == 2
     assert message in capsys.readouterr().err
 
 
 def test_unknown_effect_message_lists_the_valid_ones(capsys):
-    assert main(["synth", "measurements", "--kind", "raw", "--out", "x", "--effect", "bogus"]) == 2
+    with pytest.raises(SystemExit):
+        main(["synth", "measurements", "--kind", "raw", "--out", "x", "--effect", "bogus"])
     err = capsys.readouterr().err
     assert all(name in err for name in EFFECT_NAMES)
 
@@ -351,7 +354,7 @@ def test_footage_run_builds_the_spec_and_renders(monkeypatch, tmp_path, capsys):
         False,
         0.0,
     )
-    assert out_dir == str(tmp_path / "f")
+    assert out_dir == tmp_path / "f"
     assert capsys.readouterr().out.startswith("footage: rendered 400 frames")
 
 
