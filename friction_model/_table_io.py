@@ -485,6 +485,7 @@ def read_columns(
         options["usecols"] = list(usecols)
     kept = head.columns if usecols is None else list(usecols)
     floats = [c for c in floats if c in kept]
+    finite = [c for c in finite if c in kept]
     try:
         try:
             frame = pd.read_csv(path, dtype=dict.fromkeys(floats, np.float64), **options)
@@ -526,7 +527,7 @@ def read_table(
     required: Sequence[str] = (),
     floats: Sequence[str] = (),
     finite: Sequence[str] = (),
-    expected: Sequence[str] | None = None,
+    expected: str | None = None,
 ) -> tuple[pd.DataFrame, TableSource]:
     """Read a CSV table (any supported dialect) and check its columns.
 
@@ -540,8 +541,9 @@ def read_table(
         Columns read as float64 (an entry that is not a number is an error naming it).
     finite : sequence of str
         Columns (of ``floats``) whose every entry must be a finite number.
-    expected : sequence of str, optional
-        Columns named as expected in the missing-column message (default ``required``).
+    expected : str, optional
+        What the header should hold, for the missing-column message (default the
+        ``required`` columns).
 
     Returns
     -------
@@ -568,9 +570,10 @@ def read_table(
     ([0.125, 0.0625], "delimiter ';', decimal mark ','")
     """
     path = Path(path)
-    head = read_head(path, expected_header=f"a line '{', '.join(expected or required)}'")
+    expected = expected or ", ".join(required)
+    head = read_head(path, expected_header=f"a line of column names ({expected})")
     source = TableSource(str(path), head.header_line, head.dialect)
-    err = source.missing(required, head.columns, expected=", ".join(expected or required))
+    err = source.missing(required, head.columns, expected=expected)
     if err is not None:
         raise err
     repeated = sorted({c for c in head.columns if head.columns.count(c) > 1})
