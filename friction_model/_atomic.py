@@ -6,19 +6,22 @@ import json
 import math
 import numbers
 import os
-import tempfile
+import secrets
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["atomic_write", "json_safe", "write_json"]
+__all__ = ["atomic_write", "json_safe", "make_temporary", "write_json"]
 
 
 def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object]) -> Path:
     """Write through ``writer(tmp)`` to a temporary file beside `path`, then rename it.
 
     The temporary file keeps the suffix of `path` (so format-by-extension writers such as
-    matplotlib's ``savefig`` work) and is removed when `writer` fails.
+    matplotlib's ``savefig`` work) and is removed when `writer` fails. It is created with
+    the permissions a plain ``open(path, "w")`` gives (``0o666`` less the process umask,
+    e.g. ``0o644`` under umask ``022``), not the owner-only ``0o600`` of
+    :func:`tempfile.mkstemp`, so the renamed file is as readable as any other output.
 
     Parameters
     ----------
@@ -40,9 +43,7 @@ def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object])
     'done'
     """
     path = Path(path)
-    fd, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-    os.close(fd)
-    tmp = Path(name)
+    tmp = make_temporary(path.parent, f".{path.name}.", path.suffix)
     try:
         writer(tmp)
         os.replace(tmp, path)
@@ -50,6 +51,44 @@ def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object])
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def make_temporary(folder: str | os.PathLike[str], prefix: str, suffix: str = "") -> Path:
+    """Create a new empty file ``<folder>/<prefix><random><suffix>`` for writing.
+
+    Like :func:`tempfile.mkstemp` (the name is new, the file created exclusively), but with
+    the permissions a plain ``open(name, "w")`` gives: ``0o666`` less the process umask
+    (``0o644`` under umask ``022``) instead of ``0o600``, so that a file later renamed to
+    its final name is as readable as the other outputs.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        Existing folder.
+    prefix, suffix : str
+        Start and end of the file name.
+
+    Returns
+    -------
+    Path
+        The created file (empty, closed).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = make_temporary(tempfile.mkdtemp(), ".part-", ".csv")
+    >>> tmp.name.startswith(".part-"), tmp.suffix, tmp.stat().st_size
+    (True, '.csv', 0)
+    """
+    for _ in range(100):
+        tmp = Path(folder) / f"{prefix}{secrets.token_hex(4)}{suffix}"
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        except FileExistsError:
+            continue
+        os.close(fd)
+        return tmp
+    raise FileExistsError(f"{folder}: no free temporary name {prefix}...{suffix}")
 
 
 def json_safe(obj: Any) -> Any:

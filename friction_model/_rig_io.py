@@ -13,13 +13,19 @@ from __future__ import annotations
 import logging
 import math
 import os
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pandas as pd
+
+from friction_model._table_io import (
+    TableFormatError,
+    TableHead,
+    TableSource,
+    read_columns,
+    read_head,
+)
 
 __all__ = [
     "OPTIONAL_COLUMNS",
@@ -36,7 +42,7 @@ OPTIONAL_COLUMNS = ("temperature_C", "humidity_pct")
 _RUN_KINDS = ("steady", "instationary")
 
 
-class RunFormatError(ValueError):
+class RunFormatError(TableFormatError):
     """A run file that cannot be evaluated.
 
     The message names the file, the column (or metadata key), the row and what was expected,
@@ -61,24 +67,11 @@ class RunFormatError(ValueError):
         As given.
     """
 
-    def __init__(
-        self,
-        file: str | os.PathLike[str],
-        detail: str,
-        *,
-        column: str | None = None,
-        row: int | None = None,
-        line: int | None = None,
-    ) -> None:
-        self.file = str(file)
-        self.detail = detail
-        self.column = column
-        self.row = row
-        self.line = line
-        super().__init__(f"{self.file}: {detail}")
 
-
-def _parse_float(value: str) -> float:
+def _parse_float(value: str, decimal: str = ".") -> float:
+    # the file's decimal mark; a point is accepted too (metadata written by hand)
+    if decimal == "," and "." not in value:
+        value = value.replace(",", ".")
     number = float(value)
     if not math.isfinite(number):
         raise ValueError(value)
@@ -87,10 +80,19 @@ def _parse_float(value: str) -> float:
 
 # metadata keys with a type; the converter raises ValueError for a bad value
 _META_TYPES: dict[str, tuple[Any, str]] = {
-    "nominal_area_mm2": (lambda s: _check(_parse_float(s), lambda x: x > 0), "a number > 0"),
-    "inertial_mass_kg": (lambda s: _check(_parse_float(s), lambda x: x >= 0), "a number >= 0"),
-    "run": (lambda s: int(s), "an integer"),
-    "kind": (lambda s: _check(s.lower(), lambda x: x in _RUN_KINDS), "'steady' or 'instationary'"),
+    "nominal_area_mm2": (
+        lambda s, d: _check(_parse_float(s, d), lambda x: x > 0),
+        "a number > 0",
+    ),
+    "inertial_mass_kg": (
+        lambda s, d: _check(_parse_float(s, d), lambda x: x >= 0),
+        "a number >= 0",
+    ),
+    "run": (lambda s, d: int(s), "an integer"),
+    "kind": (
+        lambda s, d: _check(s.lower(), lambda x: x in _RUN_KINDS),
+        "'steady' or 'instationary'",
+    ),
 }
 
 
@@ -177,73 +179,34 @@ class RigRun:
         return RunFormatError(self.path, detail, column=column, row=row, line=line)
 
 
-def _read_header(path: Path) -> tuple[dict[str, Any], list[str], int]:
-    """Metadata, column names and 1-based line of the column header."""
+def _read_metadata(path: Path, head: TableHead) -> dict[str, Any]:
+    """The ``# key: value`` metadata of the lines before the column header."""
     metadata: dict[str, Any] = {}
-    try:
-        with open(path, encoding="utf-8", newline="") as fh:
-            for lineno, raw in enumerate(fh, start=1):
-                text = raw.strip()
-                if not text:
-                    continue
-                if text.startswith("#"):
-                    body = text[1:].strip()
-                    if ":" not in body:
-                        continue  # free comment
-                    key, value = (s.strip() for s in body.split(":", 1))
-                    if not key:
-                        raise RunFormatError(
-                            path,
-                            f"metadata line, file line {lineno}: expected '# key: value', "
-                            f"got {text!r}",
-                            line=lineno,
-                        )
-                    if key in _META_TYPES:
-                        convert, expected = _META_TYPES[key]
-                        try:
-                            metadata[key] = convert(value)
-                        except ValueError:
-                            raise RunFormatError(
-                                path,
-                                f"metadata key '{key}', file line {lineno}: expected "
-                                f"{expected}, got {value!r}",
-                                column=key,
-                                line=lineno,
-                            ) from None
-                    else:
-                        metadata[key] = value
-                    continue
-                columns = [c.strip() for c in text.split(",")]
-                return metadata, columns, lineno
-    except UnicodeDecodeError as exc:
-        raise RunFormatError(path, f"not a UTF-8 text file ({exc.reason})") from None
-    raise RunFormatError(
-        path,
-        f"no column header found; expected a line '{', '.join(REQUIRED_COLUMNS)}' after the "
-        "'# key: value' metadata lines",
-    )
-
-
-def _diagnose_column(
-    path: Path, name: str, values: pd.Series, header_line: int
-) -> RunFormatError | None:
-    """Error for the first NaN or non-numeric entry of a column read as text, or None."""
-    numeric = pd.to_numeric(values, errors="coerce")
-    bad = np.flatnonzero(numeric.isna().to_numpy() | ~np.isfinite(numeric.to_numpy(float)))
-    if bad.size == 0:
-        return None
-    i = int(bad[0])
-    raw = values.iloc[i]
-    got = "an empty field / NaN" if pd.isna(raw) else repr(str(raw))
-    row = i + 1
-    return RunFormatError(
-        path,
-        f"column '{name}', data row {row} (file line {header_line + row}): expected a finite "
-        f"number, got {got}",
-        column=name,
-        row=row,
-        line=header_line + row,
-    )
+    for lineno, text in head.comments:
+        body = text[1:].strip()
+        if ":" not in body:
+            continue  # free comment
+        key, value = (s.strip() for s in body.split(":", 1))
+        if not key:
+            raise RunFormatError(
+                path,
+                f"metadata line, file line {lineno}: expected '# key: value', got {text!r}",
+                line=lineno,
+            )
+        if key in _META_TYPES:
+            convert, expected = _META_TYPES[key]
+            try:
+                metadata[key] = convert(value, head.dialect.decimal)
+            except ValueError:
+                raise RunFormatError(
+                    path,
+                    f"metadata key '{key}', file line {lineno}: expected {expected}, got {value!r}",
+                    column=key,
+                    line=lineno,
+                ) from None
+        else:
+            metadata[key] = value
+    return metadata
 
 
 def read_run(path: str | os.PathLike[str]) -> RigRun:
@@ -274,17 +237,22 @@ def read_run(path: str | os.PathLike[str]) -> RigRun:
     an empty line between data rows is reported as missing values of that row.
     """
     path = Path(path)
-    metadata, columns, header_line = _read_header(path)
-    for name in REQUIRED_COLUMNS:
-        if name not in columns:
-            raise RunFormatError(
-                path,
-                f"column '{name}' missing from the column header (file line {header_line}); "
-                f"expected columns {', '.join(REQUIRED_COLUMNS)} (optional "
-                f"{', '.join(OPTIONAL_COLUMNS)}), found {', '.join(columns)}",
-                column=name,
-                line=header_line,
-            )
+    head = read_head(
+        path,
+        error_type=RunFormatError,
+        expected_header=f"a line '{', '.join(REQUIRED_COLUMNS)}' after the '# key: value' "
+        "metadata lines",
+    )
+    metadata = _read_metadata(path, head)
+    columns, header_line = head.columns, head.header_line
+    source = TableSource(str(path), header_line, head.dialect, RunFormatError)
+    err = source.missing(
+        REQUIRED_COLUMNS,
+        columns,
+        expected=f"{', '.join(REQUIRED_COLUMNS)} (optional {', '.join(OPTIONAL_COLUMNS)})",
+    )
+    if err is not None:
+        raise err
     duplicates = sorted({c for c in columns if columns.count(c) > 1})
     if duplicates:
         raise RunFormatError(
@@ -295,50 +263,7 @@ def read_run(path: str | os.PathLike[str]) -> RigRun:
             line=header_line,
         )
     used = [c for c in (*REQUIRED_COLUMNS, *OPTIONAL_COLUMNS) if c in columns]
-    # The C parser converts fields with surrounding blanks itself; passing the stripped names
-    # avoids the slower skipinitialspace option, and usecols (also slower) is only needed
-    # when the file has columns of its own.
-    options: dict[str, Any] = {
-        "skiprows": header_line - 1,
-        "header": 0,
-        "names": columns,
-        "engine": "c",
-        "skip_blank_lines": False,
-    }
-    if len(used) < len(columns):
-        options["usecols"] = used
-    try:
-        try:
-            frame = pd.read_csv(path, dtype=dict.fromkeys(used, np.float64), **options)
-        except ValueError as exc:
-            if isinstance(exc, pd.errors.ParserError):
-                raise
-            # a non-numeric entry: read as text to find where it is
-            text = pd.read_csv(path, dtype=dict.fromkeys(used, str), **options)
-            text = _drop_trailing_blank(text)
-            for name in used:
-                err = _diagnose_column(path, name, text[name], header_line)
-                if err is not None:
-                    raise err from None
-            raise RunFormatError(path, f"unreadable numbers ({exc})") from None
-    except pd.errors.ParserError as exc:
-        found = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
-        if found is None:
-            raise RunFormatError(
-                path, f"malformed CSV after the column header (file line {header_line}): {exc}"
-            ) from None
-        expected, line, saw = (int(g) for g in found.groups())
-        row = line - header_line
-        raise RunFormatError(
-            path,
-            f"malformed CSV, data row {row} (file line {line}): expected {expected} fields "
-            f"like the column header (file line {header_line}), got {saw}",
-            row=row,
-            line=line,
-        ) from None
-    except UnicodeDecodeError as exc:
-        raise RunFormatError(path, f"not a UTF-8 text file ({exc.reason})") from None
-    frame = _drop_trailing_blank(frame)
+    frame = read_columns(path, head, source, floats=used, finite=used, usecols=used)
     if len(frame) < 2:
         raise RunFormatError(
             path,
@@ -347,23 +272,7 @@ def read_run(path: str | os.PathLike[str]) -> RigRun:
             column=REQUIRED_COLUMNS[0],
             line=header_line,
         )
-    arrays: dict[str, np.ndarray] = {}
-    for name in used:
-        values = frame[name].to_numpy(dtype=np.float64, copy=False)
-        finite = np.isfinite(values)
-        if not finite.all():
-            i = int(np.flatnonzero(~finite)[0])
-            got = "an empty field / NaN" if np.isnan(values[i]) else repr(float(values[i]))
-            row = i + 1
-            raise RunFormatError(
-                path,
-                f"column '{name}', data row {row} (file line {header_line + row}): expected a "
-                f"finite number, got {got}",
-                column=name,
-                row=row,
-                line=header_line + row,
-            )
-        arrays[name] = values
+    arrays = {name: frame[name].to_numpy(dtype=np.float64) for name in used}
     t = arrays["time_s"]
     steps = np.diff(t)
     if not (steps > 0).all():
@@ -389,12 +298,3 @@ def read_run(path: str | os.PathLike[str]) -> RigRun:
         metadata=metadata,
         header_line=header_line,
     )
-
-
-def _drop_trailing_blank(frame: pd.DataFrame) -> pd.DataFrame:
-    """Drop all-empty rows at the end (trailing empty lines of the file)."""
-    empty = frame.isna().all(axis=1).to_numpy()
-    if not empty.any() or not empty[-1]:
-        return frame
-    keep = len(empty) - int(np.argmin(empty[::-1])) if not empty.all() else 0
-    return frame.iloc[:keep]

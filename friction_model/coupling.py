@@ -37,6 +37,7 @@ from scipy import stats
 from scipy.optimize import least_squares
 
 from friction_model._fitting import covariance_from_jacobian
+from friction_model._table_io import read_table
 from friction_model.geometry import BlockGeometry
 
 logger = logging.getLogger(__name__)
@@ -64,15 +65,13 @@ LEVER_ARM_PARAMS = ("e1", "e2_per_rad", "e3_m", "e4_m")
 
 # -- reading -------------------------------------------------------------------------------
 def _as_table(name: str, table: pd.DataFrame | str | os.PathLike[str]) -> tuple[pd.DataFrame, str]:
+    """A table and its name; files through the shared dialect-detecting CSV reader."""
     if isinstance(table, pd.DataFrame):
         return table, name
     path = os.fspath(table)
-    try:
-        return pd.read_csv(path), path
-    except FileNotFoundError:
-        raise ValueError(f"{path}: does not exist") from None
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path}: not a readable CSV table ({exc})") from None
+    if not os.path.isfile(path):
+        raise ValueError(f"{path}: does not exist")
+    return read_table(path)[0], path
 
 
 def _require(table: pd.DataFrame, columns: tuple[str, ...], source: str) -> None:

@@ -46,6 +46,7 @@ from scipy import stats
 from scipy.optimize import brentq, least_squares
 
 from friction_model._fitting import covariance_from_jacobian
+from friction_model._table_io import TableSource, read_table
 from friction_model.dynamics.rigid import SdofParams
 from friction_model.laws import FrictionLaw, fit_law
 
@@ -167,16 +168,16 @@ class SteadyCharacteristic:
             object.__setattr__(self, "sigma", s)
 
 
-def _read_csv(source: pd.DataFrame | str | os.PathLike[str]) -> tuple[pd.DataFrame, str]:
+def _read_csv(
+    source: pd.DataFrame | str | os.PathLike[str],
+) -> tuple[pd.DataFrame, TableSource]:
+    """A table and where it came from; files through the shared dialect-detecting reader."""
     if isinstance(source, pd.DataFrame):
-        return source, "table"
+        return source.reset_index(drop=True), TableSource("table")
     path = os.fspath(source)
-    try:
-        return pd.read_csv(path, comment=None), path
-    except FileNotFoundError:
-        raise ValueError(f"{path}: does not exist") from None
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path}: not a readable CSV table ({exc})") from None
+    if not os.path.isfile(path):
+        raise ValueError(f"{path}: does not exist")
+    return read_table(path)
 
 
 def read_characteristic(
@@ -210,40 +211,58 @@ def read_characteristic(
         Missing columns, unknown ``select`` columns or no rows left (naming the file).
     """
     table, src = _read_csv(source)
-    if "mu_mean_method1" in table.columns and "mu" not in table.columns:
-        if "row_type" in table.columns and (table["row_type"] == "aggregate").any():
-            table = table[table["row_type"] == "aggregate"]
-        mu_col, sd_col = "mu_mean_method1", "mu_std_runs"
-    else:
-        mu_col, sd_col = "mu", "mu_std"
-    for col in ("velocity_mps", mu_col):
-        if col not in table.columns:
-            raise ValueError(
-                f"{src}: missing column {col!r}; expected a steady table (velocity_mps, mu) or "
-                "steady_characteristic.csv (velocity_mps, mu_mean_method1)"
-            )
+    aggregate = "mu_mean_method1" in table.columns and "mu" not in table.columns
+    mu_col, sd_col = ("mu_mean_method1", "mu_std_runs") if aggregate else ("mu", "mu_std")
+    err = src.missing(
+        ("velocity_mps", mu_col),
+        list(table.columns),
+        expected="velocity_mps, mu[, mu_std] (a steady table) or velocity_mps, "
+        "mu_mean_method1[, mu_std_runs] (steady_characteristic.csv)",
+    )
+    if err is not None:
+        raise err
+    # numbers checked on every row before any row is dropped, so that messages count the
+    # rows of the file (the index stays the row position from here on)
+    for col in ("velocity_mps", mu_col, sd_col):
+        if col in table.columns:
+            table = table.assign(**{col: src.numbers(table, col, finite=False)})
+    if aggregate and "row_type" in table.columns and (table["row_type"] == "aggregate").any():
+        table = table[table["row_type"] == "aggregate"]
     for key, value in (select or {}).items():
         if key not in table.columns:
-            raise ValueError(f"{src}: cannot select on {key!r}: no such column")
+            raise src.error(f"cannot select on {key!r}: no such column", column=key)
         col = table[key]
         if isinstance(value, int | float) and pd.api.types.is_numeric_dtype(col):
             mask = np.isclose(col.to_numpy(float), float(value), rtol=1e-9, atol=1e-12)
         else:
             mask = col.astype(str).to_numpy() == str(value)
         table = table[mask]
-    table = table[np.isfinite(pd.to_numeric(table[mu_col], errors="coerce"))]
+    table = table[np.isfinite(table[mu_col].to_numpy(float))]
     if len(table) < 2:
-        raise ValueError(f"{src}: fewer than 2 rows with a friction coefficient (after select)")
+        raise src.error(
+            f"column '{mu_col}': expected at least 2 rows with a friction coefficient (after "
+            f"select), got {len(table)}",
+            column=mu_col,
+        )
+    v = table["velocity_mps"].to_numpy(float)
+    if not np.all(np.isfinite(v)):
+        i = int(table.index[np.flatnonzero(~np.isfinite(v))[0]])
+        raise src.error(
+            f"column 'velocity_mps', {src.where(i)}: expected a finite number, got "
+            f"an empty field / NaN",
+            column="velocity_mps",
+            index=i,
+        )
     sigma = None
     if sd_col in table.columns:
-        sd = pd.to_numeric(table[sd_col], errors="coerce").to_numpy(float)
+        sd = table[sd_col].to_numpy(float)
         if np.all(np.isfinite(sd) & (sd > 0)):
             sigma = sd
     return SteadyCharacteristic(
-        velocity_mps=table["velocity_mps"].to_numpy(float),
-        mu=pd.to_numeric(table[mu_col]).to_numpy(float),
+        velocity_mps=v,
+        mu=table[mu_col].to_numpy(float),
         sigma=sigma,
-        name=os.path.basename(src),
+        name=os.path.basename(src.file),
     )
 
 
@@ -276,12 +295,19 @@ def deflection_series_from_pipeline(
     DeflectionSeries
     """
     table, src = _read_csv(elements)
-    for col in ("time_s", "element", "deflection_angle_deg"):
-        if col not in table.columns:
-            raise ValueError(f"{src}: missing column {col!r} (side-view pipeline output)")
+    err = src.missing(
+        ("time_s", "element", "deflection_angle_deg"),
+        list(table.columns),
+        expected="frame, time_s, element, deflection_angle_deg (side-view pipeline output)",
+    )
+    if err is not None:
+        raise err
     rows = table[table["element"] == element].sort_values("time_s")
     if len(rows) < 4:
-        raise ValueError(f"{src}: element {element} has {len(rows)} row(s), need >= 4")
+        raise src.error(
+            f"column 'element': expected >= 4 rows of element {element}, got {len(rows)}",
+            column="element",
+        )
     t = rows["time_s"].to_numpy(float)
     if callable(velocity_mps):
         v = np.array([float(velocity_mps(ti)) for ti in t])
@@ -292,7 +318,7 @@ def deflection_series_from_pipeline(
         angle_deg=pd.to_numeric(rows["deflection_angle_deg"], errors="coerce").to_numpy(float),
         velocity_mps=v,
         normal_force_N=normal_force_N,
-        name=name or f"{os.path.basename(src)}[element {element}]",
+        name=name or f"{os.path.basename(src.file)}[element {element}]",
     )
 
 

@@ -232,7 +232,7 @@ def test_calibrate_errors_and_exit_codes(tmp_path, capsys):
     pd.DataFrame({"v": [1, 2], "mu": [0.1, 0.2]}).to_csv(bad, index=False)
     assert main(["calibrate", "--characteristic", str(bad), "--out", out]) == 1
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "missing column 'velocity_mps'" in err
+    assert err.count("\n") == 1 and "bad.csv: column 'velocity_mps' missing" in err
     assert main(["calibrate", "--footage", str(tmp_path), "--out", out]) == 2
     assert "frames.csv does not exist" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:

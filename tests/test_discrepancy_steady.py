@@ -140,11 +140,13 @@ def test_problem_groups_sigma_and_bounds():
 
 def test_problem_rejects_bad_tables():
     table = make_steady_table(GRID, noise=NOISE, rng=2)
-    with pytest.raises(ValueError, match=r"missing column\(s\) \['humidity_pct'\]"):
+    with pytest.raises(ValueError, match=r"^steady table: column 'humidity_pct' missing"):
         SteadyProblem(table.drop(columns="humidity_pct"))
     bad = table.copy()
-    bad.loc[3, "mu"] = np.nan
-    with pytest.raises(ValueError, match="'mu': row 3"):
+    bad.loc[3, "mu"] = np.nan  # the fourth row: data row 4, counted from 1 as in evaluate
+    with pytest.raises(
+        ValueError, match=r"^steady table: column 'mu', data row 4: expected a finite number"
+    ):
         SteadyProblem(bad)
     with pytest.raises(ValueError, match="sigma must be"):
         SteadyProblem(table, sigma="median")

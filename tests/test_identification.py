@@ -206,7 +206,7 @@ def test_read_characteristic_both_formats(tmp_path):
     st2 = read_characteristic(path)
     assert_allclose(st2.mu, [0.2, 0.15])
     assert_allclose(st2.sigma, [0.004, 0.003])
-    with pytest.raises(ValueError, match="missing column 'velocity_mps'"):
+    with pytest.raises(ValueError, match=r"^table: column 'velocity_mps' missing"):
         read_characteristic(table.drop(columns="velocity_mps"))
     with pytest.raises(ValueError, match="cannot select on 'humidity_pct'"):
         read_characteristic(table, select={"humidity_pct": 50})

@@ -17,8 +17,9 @@ dependence of the rubber modulus, section 5.3.2); this package does it on data:
 Public API
 ----------
 :func:`run_discrepancy`, :class:`DiscrepancyResult`, :func:`write_result`,
-:class:`Problem` (protocol), :class:`SteadyProblem`, :class:`TransientProblem`
-(:class:`TransientRun`, :func:`read_transient_table`, :func:`run_from_table`,
+:class:`Problem` (protocol), :class:`SteadyProblem` (:func:`read_steady_table`),
+:class:`TransientProblem` (:class:`TransientRun`, :func:`read_transient_table`,
+:func:`read_elements_table`, :func:`run_from_table`,
 :func:`runs_from_elements`), :class:`StickSlipProblem` (:func:`stick_slip_case`,
 :func:`thesis_stick_slip_problem`), :class:`Candidate`,
 :class:`ParameterSpec`, :func:`register_candidate`, :func:`unregister_candidate`,
@@ -68,7 +69,7 @@ from friction_model.discrepancy._scoring import (
 )
 from friction_model.discrepancy._where import residual_spectrum, where_analysis
 from friction_model.discrepancy._workflow import DiscrepancyResult, run_discrepancy
-from friction_model.discrepancy.steady import SteadyProblem
+from friction_model.discrepancy.steady import SteadyProblem, read_steady_table
 from friction_model.discrepancy.stickslip import (
     StickSlipProblem,
     StickSlipResult,
@@ -78,6 +79,7 @@ from friction_model.discrepancy.stickslip import (
 from friction_model.discrepancy.transient import (
     TransientProblem,
     TransientRun,
+    read_elements_table,
     read_transient_table,
     run_from_table,
     runs_from_elements,
@@ -100,6 +102,8 @@ __all__ = [
     "chi_square",
     "get_candidate",
     "group_folds",
+    "read_elements_table",
+    "read_steady_table",
     "read_transient_table",
     "reduced_chi_square",
     "register_candidate",

@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import math
+import os
 from collections import OrderedDict
 from collections.abc import Mapping
 
@@ -18,13 +19,14 @@ import numpy as np
 import pandas as pd
 from scipy.interpolate import CubicSpline
 
+from friction_model._table_io import TableSource, read_table
 from friction_model.discrepancy._problem import get_candidate
 from friction_model.discrepancy._steady_curves import CONDITION_COLUMNS, steady_mu
 from friction_model.drywet import DryWetParameters
 from friction_model.effects import DRY_WET_EFFECTS, Effects
 from friction_model.water_layer import freezing_point_depression_K
 
-__all__ = ["GROUP_COLUMNS", "MIN_RELATIVE_SIGMA", "SteadyProblem"]
+__all__ = ["GROUP_COLUMNS", "MIN_RELATIVE_SIGMA", "SteadyProblem", "read_steady_table"]
 
 logger = logging.getLogger(__name__)
 
@@ -66,13 +68,88 @@ def _knots(name: str, upper: float) -> np.ndarray:
     return upper * u
 
 
-def _require_columns(table: pd.DataFrame, columns: tuple[str, ...]) -> None:
-    missing = [c for c in columns if c not in table]
-    if missing:
-        raise ValueError(
-            f"steady table is missing column(s) {missing}; expected the steady-table columns "
-            f"{[*CONDITION_COLUMNS, 'n_sipes', 'mu', 'mu_std']} (docs/formats.md)"
+#: Columns a steady table must have, and the fewest rows it needs.
+_NEEDED = (*CONDITION_COLUMNS, "n_sipes", "mu")
+_MIN_ROWS = 4
+_EXPECTED = f"{', '.join(_NEEDED)}[, mu_std] (docs/formats.md, Steady table)"
+
+
+def _check_table(table: pd.DataFrame, source: TableSource) -> dict[str, np.ndarray]:
+    """Check a steady table; its needed columns (and ``mu_std``) as float arrays.
+
+    Every message names the table (``source``: a file or ``"steady table"``), the column,
+    the data row (1-based; with the file line for a file) and what was expected.
+    """
+    err = source.missing(_NEEDED, list(table.columns), expected=_EXPECTED)
+    if err is not None:
+        raise err
+    if len(table) < _MIN_ROWS:
+        where = "" if source.header_line is None else f" (file line {source.header_line})"
+        raise source.error(
+            f"expected at least {_MIN_ROWS} data rows after the column header{where}, got "
+            f"{len(table)}"
         )
+    table = table.reset_index(drop=True)
+    numeric = {col: source.numbers(table, col) for col in _NEEDED}
+    if "mu_std" in table:
+        numeric["mu_std"] = source.numbers(table, "mu_std")
+    rules = (
+        ("mu", numeric["mu"] <= 0, "a number > 0"),
+        (
+            "n_sipes",
+            (numeric["n_sipes"] != np.round(numeric["n_sipes"])) | (numeric["n_sipes"] < 0),
+            "an integer >= 0",
+        ),
+        (
+            "mu_std",
+            numeric["mu_std"] < 0 if "mu_std" in numeric else np.zeros(0, bool),
+            "a number >= 0",
+        ),
+    )
+    for col, bad, rule in rules:
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            got = float(numeric[col][i])
+            raise source.error(
+                f"column '{col}', {source.where(i)}: expected {rule}, got {got!r}",
+                column=col,
+                index=i,
+            )
+    return numeric
+
+
+def read_steady_table(path: str | os.PathLike[str]) -> pd.DataFrame:
+    """Read and check a steady table CSV (docs/formats.md, "Steady table").
+
+    Any delimiter and decimal mark of :mod:`friction_model._table_io` are read (``,`` with
+    ``.``, ``;`` or tab with ``.`` or ``,``).
+
+    Parameters
+    ----------
+    path : str or path-like
+        CSV with the columns ``velocity_mps``, ``pressure_bar``, ``temperature_C``,
+        ``humidity_pct``, ``salinity_pct``, ``n_sipes``, ``mu`` and optionally ``mu_std``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The table, ready for :class:`SteadyProblem`.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, the column, the data row and file line and what was expected: a
+        missing column, fewer than 4 rows, an entry that is not a finite number, mu <= 0,
+        n_sipes not an integer >= 0, mu_std < 0.
+    OSError
+        When the file cannot be opened.
+    """
+    numeric = [*_NEEDED, "mu_std"]
+    table, source = read_table(
+        path, required=_NEEDED, floats=numeric, finite=numeric, expected=_EXPECTED
+    )
+    _check_table(table, source)
+    return table
 
 
 class SteadyProblem:
@@ -139,25 +216,10 @@ class SteadyProblem:
     ) -> None:
         if not isinstance(table, pd.DataFrame):
             raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
-        _require_columns(table, (*CONDITION_COLUMNS, "n_sipes", "mu"))
         if sigma not in ("pooled", "rows"):
             raise ValueError(f"sigma must be 'pooled' or 'rows', got {sigma!r}")
-        if len(table) < 4:
-            raise ValueError(f"steady table needs at least 4 rows, got {len(table)}")
+        numeric = _check_table(table, TableSource("steady table"))
         table = table.reset_index(drop=True)
-        numeric = {}
-        for col in (*CONDITION_COLUMNS, "n_sipes", "mu"):
-            values = pd.to_numeric(table[col], errors="coerce").to_numpy(float)
-            if not np.all(np.isfinite(values)):
-                bad = int(np.flatnonzero(~np.isfinite(values))[0])
-                raise ValueError(f"steady table column {col!r}: row {bad} is not a finite number")
-            numeric[col] = values
-        if np.any(numeric["mu"] <= 0):
-            raise ValueError("steady table column 'mu' must be > 0")
-        if np.any(numeric["n_sipes"] != np.round(numeric["n_sipes"])) or np.any(
-            numeric["n_sipes"] < 0
-        ):
-            raise ValueError("steady table column 'n_sipes' must hold integers >= 0")
         self.params = (params or DryWetParameters()).with_(effects=Effects.none())
         self.conditions = pd.DataFrame({c: numeric[c] for c in CONDITION_COLUMNS})
         self.conditions["n_sipes"] = numeric["n_sipes"].astype(int)
@@ -187,8 +249,6 @@ class SteadyProblem:
     def _sigma(self, table: pd.DataFrame, mode: str) -> np.ndarray:
         if "mu_std" in table:
             std = pd.to_numeric(table["mu_std"], errors="coerce").to_numpy(float)
-            if not np.all(np.isfinite(std)) or np.any(std < 0):
-                raise ValueError("steady table column 'mu_std' must be finite and >= 0")
             if mode == "rows":
                 return np.maximum(std, MIN_RELATIVE_SIGMA * self.y)
             rel = math.sqrt(float(np.mean((std / self.y) ** 2)))

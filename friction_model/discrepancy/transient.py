@@ -38,12 +38,12 @@ import math
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
+from friction_model._table_io import TableSource, read_table
 from friction_model.discrepancy._problem import Candidate, get_candidate
 from friction_model.element_step import step_element, step_response
 
@@ -55,6 +55,7 @@ __all__ = [
     "TransientProblem",
     "TransientRun",
     "candidate_specs",
+    "read_elements_table",
     "read_transient_table",
     "run_from_table",
     "runs_from_elements",
@@ -200,7 +201,10 @@ def _estimate_sigma(t: np.ndarray, a: np.ndarray, t_step: float) -> float:
 
 
 def read_transient_table(path: str | os.PathLike[str]) -> pd.DataFrame:
-    """Read a transient table CSV (docs/formats.md "Transient table") and check its columns.
+    """Read and check a transient table CSV (docs/formats.md "Transient table").
+
+    Any delimiter and decimal mark of :mod:`friction_model._table_io` are read (``,`` with
+    ``.``, ``;`` or tab with ``.`` or ``,``).
 
     Parameters
     ----------
@@ -214,12 +218,72 @@ def read_transient_table(path: str | os.PathLike[str]) -> pd.DataFrame:
     Raises
     ------
     ValueError
-        Naming the file and the missing or non-numeric column.
+        Naming the file, the column, the data row and file line and what was expected: a
+        missing column, an entry that is not a finite number, time that does not increase
+        strictly, fewer than 3 rows.
+    OSError
+        When the file cannot be opened.
     """
-    path = Path(path)
-    table = pd.read_csv(path)
-    _check_columns(table, _COLUMNS, f"transient table {path}")
+    table, source = read_table(
+        path,
+        required=_COLUMNS,
+        floats=_COLUMNS,
+        finite=_COLUMNS,
+        expected=f"{', '.join(_COLUMNS)} (docs/formats.md, Transient table)",
+    )
+    if len(table) < 3:
+        raise source.error(
+            f"expected at least 3 data rows after the column header (file line "
+            f"{source.header_line}), got {len(table)}"
+        )
+    _check_increasing(table["time_s"].to_numpy(float), source)
     return table
+
+
+def read_elements_table(path: str | os.PathLike[str]) -> pd.DataFrame:
+    """Read and check the pipeline's ``elements.csv`` for :func:`runs_from_elements`.
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``elements.csv`` of ``tir-contact analyze`` (columns ``time_s``, ``element``,
+        ``deflection_angle_deg``; others are kept). Any delimiter and decimal mark of
+        :mod:`friction_model._table_io` are read.
+
+    Returns
+    -------
+    pandas.DataFrame
+
+    Raises
+    ------
+    ValueError
+        Naming the file, the column, the data row and file line and what was expected: a
+        missing column, an entry that is not a number (``time_s`` and ``element`` must be
+        finite; an empty ``deflection_angle_deg`` is an element out of view).
+    OSError
+        When the file cannot be opened.
+    """
+    table, _ = read_table(
+        path,
+        required=_ELEMENT_COLUMNS,
+        floats=_ELEMENT_COLUMNS,
+        finite=("time_s", "element"),
+        expected=f"{', '.join(_ELEMENT_COLUMNS)} (docs/formats.md, elements.csv)",
+    )
+    return table
+
+
+def _check_increasing(t: np.ndarray, source: TableSource) -> None:
+    """Raise at the first sample whose time does not exceed the one before."""
+    steps = np.diff(t)
+    if not np.all(steps > 0):
+        i = int(np.flatnonzero(~(steps > 0))[0]) + 1
+        raise source.error(
+            f"column 'time_s', {source.where(i)}: time must increase strictly, got "
+            f"{float(t[i])!r} s after {float(t[i - 1])!r} s",
+            column="time_s",
+            index=i,
+        )
 
 
 def _check_columns(table: pd.DataFrame, columns: Sequence[str], where: str) -> None:

@@ -99,14 +99,14 @@ def _drywet_params(path: Path | None) -> Any:
 
 
 def _elements_table(paths: list[Path]) -> Any:
-    import pandas as pd
+    from friction_model.discrepancy import read_elements_table
 
     frames = []
     for path in paths:
         file = path / "elements.csv" if path.is_dir() else path
         if not file.is_file():
             raise ValueError(f"{file}: no elements.csv (run tir-contact analyze first)")
-        frames.append(pd.read_csv(file))
+        frames.append(read_elements_table(file))
     return frames
 
 
@@ -118,10 +118,15 @@ def _problem(args: argparse.Namespace) -> Any:
     if args.steady is not None:
         if not args.steady.is_file():
             raise ValueError(f"{args.steady}: does not exist")
-        return SteadyProblem(pd.read_csv(args.steady), params=_drywet_params(args.params))
+        from friction_model.discrepancy import read_steady_table
+
+        return SteadyProblem(read_steady_table(args.steady), params=_drywet_params(args.params))
     if args.transient is not None:
         from friction_model.discrepancy import read_transient_table
 
+        for path in args.transient:
+            if not path.is_file():
+                raise ValueError(f"{path}: does not exist")
         tables = [read_transient_table(p) for p in args.transient]
         return TransientProblem.from_tables(
             tables, labels=[p.stem for p in args.transient], n_sipes=args.n_sipes,
