@@ -416,10 +416,9 @@ def _run(args: argparse.Namespace) -> int:
                     )
                 )
     for path in args.transient:
-        table = pd.read_csv(path)
-        missing = [c for c in ("time_s", "velocity_mps", "angle_deg") if c not in table]
-        if missing:
-            raise ValueError(f"{path}: missing column(s) {missing} of a transient table")
+        from friction_model.discrepancy import read_transient_table
+
+        table = read_transient_table(path)  # any CSV dialect; errors name file, column, row
         p_bar = args.pressure_bar
         if p_bar is None:
             raise _InputError(f"{path}: --pressure-bar is needed for a transient table")
