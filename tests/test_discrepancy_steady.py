@@ -152,8 +152,13 @@ def test_problem_rejects_bad_tables():
         SteadyProblem(table, sigma="median")
 
 
+#: The default run keeps one case of each family; the others run with ``-m slow``.
+FAST_EFFECT = "viscous_shear"
+
+
 # -- hidden effects ----------------------------------------------------------------------------
-@pytest.mark.parametrize("effect", DRY_WET_EFFECTS)
+@pytest.mark.parametrize("effect", [
+    e if e == FAST_EFFECT else pytest.param(e, marks=pytest.mark.slow) for e in DRY_WET_EFFECTS])
 def test_hidden_effect_is_named(effect, strength3):
     truth = strength3[effect]
     for seed in range(3):
@@ -166,7 +171,8 @@ def test_hidden_effect_is_named(effect, strength3):
         assert param["ci_lower"] > 0.0
 
 
-@pytest.mark.parametrize("noise", [0.01, 0.05, 0.10])
+@pytest.mark.parametrize("noise", [pytest.param(0.01, marks=pytest.mark.slow), 0.05,
+                                   pytest.param(0.10, marks=pytest.mark.slow)])
 def test_no_effect_names_nothing(noise):
     for seed in range(2):
         table = make_steady_table(GRID, noise=noise, rng=100 + seed)
@@ -175,6 +181,7 @@ def test_no_effect_names_nothing(noise):
         assert result.verdict == "no missing effect found", (seed, result.verdict)
 
 
+@pytest.mark.slow
 def test_shuffled_humidity_loses_support(strength3):
     table = make_steady_table(
         GRID,
@@ -199,6 +206,7 @@ def test_shuffled_humidity_loses_support(strength3):
     assert bic_shuffled < 0.6 * bic_true
 
 
+@pytest.mark.slow
 def test_two_hidden_effects_are_both_found(strength3):
     truth = {
         "humidity_water_layer": strength3["humidity_water_layer"],
@@ -214,6 +222,7 @@ def test_two_hidden_effects_are_both_found(strength3):
     assert result.gap_after <= 0.5 * result.gap_before
 
 
+@pytest.mark.slow
 def test_drift_outside_the_library_is_unexplained():
     table = make_steady_table(GRID, noise=NOISE, rng=9)
     time_s = np.arange(len(table)) * 67.5  # rows measured one after the other
@@ -224,6 +233,7 @@ def test_drift_outside_the_library_is_unexplained():
     assert result.verdict == "unexplained residual: structured residual against time_s"
 
 
+@pytest.mark.slow
 def test_small_effects_are_never_misnamed():
     for k, effect in enumerate(DRY_WET_EFFECTS):
         s = strength_for_effect_size(effect, 0.5, noise=NOISE, grid=GRID)

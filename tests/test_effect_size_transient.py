@@ -63,7 +63,9 @@ def test_levels_absorb_part_of_the_change():
     assert transient_effect_size("frequency_dependent_modulus", 0.0, **RECORD) == 0.0
 
 
-@pytest.mark.parametrize("effect", sorted(TRANSIENT_STRENGTH_MAX))
+@pytest.mark.parametrize("effect", [
+    e if e == "friction_relaxation" else pytest.param(e, marks=pytest.mark.slow)
+    for e in sorted(TRANSIENT_STRENGTH_MAX)])
 def test_strength_for_transient_size_root(effect):
     s = strength_for_transient_effect_size(effect, 3.0, noise=0.01, **RECORD)
     assert 0.0 < s < TRANSIENT_STRENGTH_MAX[effect]
@@ -72,6 +74,7 @@ def test_strength_for_transient_size_root(effect):
     assert transient_effect_size(effect, s, **RECORD) == pytest.approx(0.03, rel=1e-3)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("effect", sorted(TRANSIENT_STRENGTH_MAX))
 def test_transient_size_cap_is_reported(effect):
     # 3 x 5 % noise is beyond what a lag or a stiffening of the 1 -> 5 m/s step can do
@@ -98,7 +101,9 @@ def test_transient_size_bad_input():
 
 
 @pytest.mark.parametrize(
-    ("effect", "seed"), [("friction_relaxation", 3), ("frequency_dependent_modulus", 4)]
+    ("effect", "seed"),
+    [("friction_relaxation", 3),
+     pytest.param("frequency_dependent_modulus", 4, marks=pytest.mark.slow)],
 )
 def test_size_3_at_1_percent_noise_is_named_and_closes_the_held_out_gap(effect, seed):
     from friction_model.discrepancy import TransientProblem, run_discrepancy

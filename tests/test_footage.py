@@ -155,6 +155,7 @@ def test_front_band_is_the_darkest_column_of_each_element(preset, direction):
     assert np.max(np.abs(errors)) <= 1.0
 
 
+@pytest.mark.slow
 def test_contact_ratio_falls_with_the_number_of_sipes():
     # Fig. 4.21: fewer contact with more sipes (the thin elements tilt and lift at the back).
     ratios = []

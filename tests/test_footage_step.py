@@ -93,6 +93,7 @@ def test_deflection_lags_the_step_by_tau(step_truth):
     assert t63 == pytest.approx(TAU, rel=0.1)
 
 
+@pytest.mark.slow
 def test_no_relaxation_reaches_the_new_level_within_a_few_ms():
     # the control: without Eq. 5.12 the element settles on the new level within ~5 ms
     # (the element dynamics alone), far faster than tau
