@@ -107,12 +107,26 @@ def make_tir_results(folder):
     return folder
 
 
-def make_characteristic(path, seed=0):
+def make_characteristic(path, seed=0, noise=0.0025):
+    # 0.25 % scatter: with 1 % the lowest AICc of the four laws is Eq. 5.7, not the true
+    # Eq. 4.8, for 4.8 % of seeds (400 seeds); with 0.25 % for none
     rng = np.random.default_rng(seed)
     v = np.repeat([0.5, 1.0, 2.0, 3.0, 5.0, 8.0], 2)
-    mu = LAW(v) * (1 + 0.01 * rng.standard_normal(v.size))
-    pd.DataFrame({"velocity_mps": v, "mu": mu, "mu_std": 0.01 * LAW(v)}).to_csv(path, index=False)
+    mu = LAW(v) * (1 + noise * rng.standard_normal(v.size))
+    pd.DataFrame({"velocity_mps": v, "mu": mu, "mu_std": noise * LAW(v)}).to_csv(path, index=False)
     return path
+
+
+def near_interval(low, value, high, truth):
+    """Whether ``truth`` lies within twice the half-widths of the interval around ``value``.
+
+    One seed's 95 % interval misses the truth in 5 % of seeds, and a seed's random stream is
+    not fixed across numpy versions; twice the half-width (~3.9 sigma) is missed in ~1e-4
+    (1e-3 for a t interval with 10 degrees of freedom).
+    The intervals' coverage itself is tested over many seeds (test_identification,
+    test_coupling, test_laws).
+    """
+    return value - 2.0 * (value - low) <= truth <= value + 2.0 * (high - value)
 
 
 def make_transient(path, seed=1):
@@ -169,11 +183,14 @@ def test_calibrate_then_simulate(tmp_path, capsys):
     # law and element: 'auto' finds Eq. 4.8; E and tan(delta) from the step (0.01 deg noise)
     law = friction_law_from(params)
     assert type(law).__name__ == "DecreasingSqrtLaw"
+    # spread over 40 seeds of both files: A_D 0.6 %, B_D 0.13 %, E 0.05 %, tan(delta) 2.8 %
+    # (max 5.9 %) standard deviation; tolerances >= 4 sigma, as a seed's stream is not fixed
     assert law.A_D == pytest.approx(0.03, rel=0.05) and law.B_D == pytest.approx(0.12, rel=0.02)
     el = params["element"]
     assert el["youngs_modulus_Pa"] == pytest.approx(E_TRUE, rel=0.01)
-    assert el["loss_factor"] == pytest.approx(ETA_TRUE, rel=0.1)
-    assert el["ci_low"]["youngs_modulus_Pa"] < E_TRUE < el["ci_high"]["youngs_modulus_Pa"]
+    assert el["loss_factor"] == pytest.approx(ETA_TRUE, rel=0.12)
+    ci = (el["ci_low"]["youngs_modulus_Pa"], el["ci_high"]["youngs_modulus_Pa"])
+    assert near_interval(ci[0], el["youngs_modulus_Pa"], ci[1], E_TRUE)
     assert el["normal_force_N"] == pytest.approx(20.0)
 
     sim = tmp_path / "sim"
@@ -217,7 +234,7 @@ def test_calibrate_characteristic_only_writes_a_law_with_intervals(tmp_path, cap
     )
     fl = read_parameters(out)["friction_law"]
     for k, truth in LAW.params.items():
-        assert fl["ci_low"][k] < truth < fl["ci_high"][k]
+        assert near_interval(fl["ci_low"][k], fl["params"][k], fl["ci_high"][k], truth), k
     assert fl["velocity_range_mps"] == [0.5, 8.0]
     assert "element" not in read_parameters(out)
 
@@ -300,18 +317,21 @@ def test_calibrate_on_a_synthetic_transient_table(tmp_path, capsys):
     """synthetic.measurements' velocity step (friction follows the carriage): E0, tan(delta)."""
     from synthetic.measurements import make_transient_table, write_table
 
-    table = make_transient_table(noise=0.02, rng=12, pressure_bar=0.8)
+    table = make_transient_table(noise=0.005, rng=12, pressure_bar=0.8)
     truth = table.attrs["truth"]
     path = write_table(table, tmp_path / "step.csv")
     out = tmp_path / "p.json"
     argv = ["calibrate", "--transient", str(path), "--pressure-bar", "0.8", "--no-tip-feedback"]
     assert main([*argv, "--out", str(out), "--ci", "jacobian"]) == 0
     el = read_parameters(out)["element"]
-    # exact forward model, 2 % noise on a 19 deg angle: E to 0.2 %, tan(delta) to 3 % (seed 12:
-    # -0.03 % and -1.4 %); the 95 % intervals cover the truth
-    assert el["youngs_modulus_Pa"] == pytest.approx(truth["youngs_modulus_static_Pa"], rel=2e-3)
+    # exact forward model, 0.5 % noise on a 19 deg angle. Spread over 40 seeds: E 0.12 %,
+    # tan(delta) 0.63 %, mu before/after 0.11 % standard deviation (with 2 % noise E scatters
+    # by 0.48 % and tan(delta) by 2.4 %, so bounds of 0.2 % and 3 % held for lucky seeds
+    # only). Tolerances >= 4 sigma: a seed's random stream is not fixed across numpy versions
+    assert el["youngs_modulus_Pa"] == pytest.approx(truth["youngs_modulus_static_Pa"], rel=5e-3)
     assert el["loss_factor"] == pytest.approx(truth["loss_factor"], rel=0.03)
-    assert el["ci_low"]["loss_factor"] < truth["loss_factor"] < el["ci_high"]["loss_factor"]
+    ci = (el["ci_low"]["loss_factor"], el["ci_high"]["loss_factor"])
+    assert near_interval(ci[0], el["loss_factor"], ci[1], truth["loss_factor"])
     assert el["tip_velocity_feedback"] is False
     law = friction_law_from(read_parameters(out))
-    assert_allclose(law(np.array([1.0, 5.0])), [truth["mu_before"], truth["mu_after"]], rtol=0.01)
+    assert_allclose(law(np.array([1.0, 5.0])), [truth["mu_before"], truth["mu_after"]], rtol=5e-3)

@@ -50,11 +50,15 @@ def test_fit_lever_arm_recovers_e1_to_e4():
         # a consistent estimator with a correct covariance: within 4 standard errors
         assert abs(got - value) < 4 * se, (name, got, value, se)
         assert fit.ci_low[name] < got < fit.ci_high[name]
-    # the curve itself: 0.05 mm noise on 200 points -> the fitted e(phi) within 0.02 mm
+    # the curve itself: 0.05 mm noise on 200 points. The largest deviation of the fitted
+    # e(phi) over 0..60 deg, over 300 other seeds: median 0.016 mm, 99 % 0.043 mm, max
+    # 0.060 mm (0.014 mm with this seed). A seed's stream is not fixed across numpy
+    # versions, so the bound holds for any seed: 0.07 mm
     grid = np.radians(np.linspace(0.0, 60.0, 121))
-    assert_allclose(fit(grid), lever_arm_eq_5_21(grid, length_m=L_G3, **truth), atol=2e-5)
-    # the residual scatter estimates the 0.05 mm noise (200 points: +-10 % at 2 sigma)
-    assert fit.rmse_m == pytest.approx(5e-5, rel=0.12)
+    assert_allclose(fit(grid), lever_arm_eq_5_21(grid, length_m=L_G3, **truth), atol=7e-5)
+    # the residual scatter estimates the 0.05 mm noise: relative sampling error
+    # 1 / sqrt(2 x 200) = 5 % (4.8 % over 300 seeds); 4 sigma
+    assert fit.rmse_m == pytest.approx(5e-5, rel=0.2)
 
 
 def test_lever_arm_confidence_intervals_cover_the_truth():
@@ -66,7 +70,8 @@ def test_lever_arm_confidence_intervals_cover_the_truth():
         fit = fit_lever_arm(phi, e, element_length_m=L_G3, sigma_m=5e-5)
         for name, value in truth.items():
             hits[name] += fit.ci_low[name] <= value <= fit.ci_high[name]
-    # 95 % intervals over 40 seeds: the count is Binomial(40, 0.95), mean 38; P(<= 33) = 0.8 %
+    # 95 % intervals over 40 seeds: the count is Binomial(40, 0.95), mean 38; P(<= 33) =
+    # 0.34 % per parameter, 1.4 % for the four (the chance that another random stream fails)
     for name, count in hits.items():
         assert count >= 34, (name, count)
 

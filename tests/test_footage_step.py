@@ -126,20 +126,29 @@ def test_spec_without_the_new_fields_is_unchanged():
     plain = FootageSpec(view="side", n_frames=3, dynamics="steady", settle_s=0.004)
     assert list(plain.to_dict()) == old_keys
     assert "velocity_step_to_mps" in _step_spec().to_dict()
-    # frozen ground truth of this spec, recorded before the velocity step was added
-    # (9 significant digits as in ground_truth.csv; the steady model is integrated with
-    # rtol 1e-4, so the values are held to 1e-6 relative)
+    # ground truth of this spec against its converged value. The clip's model is integrated
+    # with LSODA at rtol 1e-4 (synthetic.footage._RTOL); its "steady" value is the mean over
+    # the last 30 % of a 4 ms run that ends inside a stick-slip cycle, so it moves with the
+    # solver's steps. Tolerance 10 x rtol (1e-3 relative, ~0.01 deg, the accuracy the
+    # renderer needs): measured 10.1934 deg (scipy 1.17), 10.1961 deg (issue report) and
+    # 10.1958 deg (value frozen on an older environment) against the converged 10.19216 deg,
+    # all within 4e-4; a 1 % change of the physics fails. The front edge is a fixed 22 mm of
+    # geometry plus the tip deflection, so it carries the tip's absolute error (1e-3 x 1.08 mm).
+    # With scipy 1.10 the same integration starts the slip 0.1 ms later and gives 11.03 deg
+    # (+8 %): a real loss of accuracy of the rtol-1e-4 model, which this test reports.
     truth = pd.concat([t for _, _, t in iter_frames(plain)], ignore_index=True)
     row = truth[(truth["frame"] == 1) & (truth["element"] == 0)].iloc[0]
     np.testing.assert_allclose(
-        [row["deflection_angle_deg"], row["tip_deflection_mm"], row["front_edge_x_mm"]],
-        FROZEN_G3_STEADY, rtol=1e-6)
+        [row["deflection_angle_deg"], row["tip_deflection_mm"]], CONVERGED_G3_STEADY[:2],
+        rtol=1e-3)
+    assert row["front_edge_x_mm"] == pytest.approx(CONVERGED_G3_STEADY[2], abs=1.1e-3)
 
 
 #: Element 0, frame 1 of FootageSpec(view="side", n_frames=3, dynamics="steady",
-#: settle_s=0.004) before the change: deflection_angle_deg, tip_deflection_mm,
-#: front_edge_x_mm.
-FROZEN_G3_STEADY = [10.19584231934966, 1.0838575611921453, 23.135431763186677]
+#: settle_s=0.004): deflection_angle_deg, tip_deflection_mm, front_edge_x_mm, from the same
+#: model integrated to convergence (rtol 1e-8, atol 1e-12; scipy 1.10.1 and 1.17.1 agree to
+#: 2e-8 relative, rtol 1e-6 to 3e-6).
+CONVERGED_G3_STEADY = [10.19216, 1.083475, 23.135013]
 
 
 @pytest.mark.parametrize(

@@ -111,22 +111,29 @@ def test_identify_recovers_modulus_damping_and_law_from_the_nonlinear_model(nonl
         base=SdofParams(),  # starts from E = 3.61 MPa, tan(delta) = 0.2
     )
     est = res.estimates
-    # measured: E +0.09 %, tan(delta) -1.8 %, A_D +0.6 %, B_D -0.5 % (linearisation error of
-    # the model ~0.02 deg, as large as the noise); tolerances 2 %, 10 %, 5 %, 2 %
+    # this seed: E +0.09 %, tan(delta) -1.8 %, A_D +0.6 %, B_D -0.5 %. Over 70 seeds the
+    # standard deviations are 0.5 %, 6.3 %, 1.6 %, 0.6 % and of the noise estimate 4.1 %
+    # (maxima 1.7 %, 14 %, 4.4 %, 1.6 %, 9 %): the linearisation error of the model (~0.02 deg)
+    # is as large as the noise. A seed's random stream is not fixed across numpy versions,
+    # so the bounds are >= 4 sigma of that spread, not this seed's luck.
     assert est["youngs_modulus_Pa"].value == pytest.approx(E_TRUE, rel=0.02)
-    assert est["loss_factor"].value == pytest.approx(ETA_TRUE, rel=0.10)
-    assert est["A_D"].value == pytest.approx(0.03, rel=0.05)
-    assert est["B_D"].value == pytest.approx(0.12, rel=0.02)
+    assert est["loss_factor"].value == pytest.approx(ETA_TRUE, rel=0.25)
+    assert est["A_D"].value == pytest.approx(0.03, rel=0.065)
+    assert est["B_D"].value == pytest.approx(0.12, rel=0.025)
+    # the 95 % intervals cover the truth in only 80-97 % of those seeds (the linearised model
+    # is biased on nonlinear data); within twice their half-widths in all of them
     for name, truth in (
         ("youngs_modulus_Pa", E_TRUE),
         ("loss_factor", ETA_TRUE),
         ("A_D", 0.03),
         ("B_D", 0.12),
     ):
-        assert est[name].covers(truth), (name, est[name])
+        e = est[name]
+        lo, hi = e.value - 2.0 * (e.value - e.ci_low), e.value + 2.0 * (e.ci_high - e.value)
+        assert lo <= truth <= hi, (name, e)
     assert est["youngs_modulus_Pa"].ci_method == "profile"
     assert est["A_D"].ci_method == "jacobian"
-    assert res.sigma["deflection"] == pytest.approx(0.02, rel=0.15)  # noise estimated
+    assert res.sigma["deflection"] == pytest.approx(0.02, rel=0.17)  # noise estimated, 4 sigma
     assert res.sdof.youngs_modulus_Pa == est["youngs_modulus_Pa"].value
     sections = res.to_sections(normal_force_N=F_N)
     assert sections["friction_law"]["law"] == "DecreasingSqrtLaw"
@@ -170,15 +177,19 @@ def test_release_test_gives_modulus_and_loss_factor():
     boot = identify_parameters(
         [series], law=ConstantLaw(0.2), law_free=(), ci="bootstrap", n_bootstrap=40, rng=1
     )
+    # over 50 noise seeds: E scatters by 0.07 %, tan(delta) by 0.3 % (standard deviation); the
+    # profile interval covers E in 96 %, the 40-resample bootstrap in 88 %, both within
+    # twice their half-widths in all (a seed's stream is not fixed across numpy versions)
     for res in (prof, boot):
         e = res.estimates["youngs_modulus_Pa"]
         assert e.value == pytest.approx(E_TRUE, rel=0.005)  # frequency: sub-percent
-        assert e.covers(E_TRUE)
+        assert e.value - 2 * (e.value - e.ci_low) <= E_TRUE <= e.value + 2 * (e.ci_high - e.value)
         assert res.estimates["loss_factor"].value == pytest.approx(ETA_TRUE, rel=0.05)
-    # bootstrap and profile intervals agree within a factor 2 in width for E
+    # bootstrap and profile intervals agree in width for E: the ratio is 0.84 +- 0.12 over
+    # 50 seeds (min 0.55, max 1.18); 0.4 .. 2.5 holds beyond 3.5 sigma
     w_p = prof.estimates["youngs_modulus_Pa"].ci_high - prof.estimates["youngs_modulus_Pa"].ci_low
     w_b = boot.estimates["youngs_modulus_Pa"].ci_high - boot.estimates["youngs_modulus_Pa"].ci_low
-    assert 0.5 < w_b / w_p < 2.0
+    assert 0.4 < w_b / w_p < 2.5
 
 
 def test_read_characteristic_both_formats(tmp_path):
