@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from scipy.integrate import trapezoid
 from tqdm import tqdm
 
 from friction_model._atomic import atomic_write
@@ -495,7 +496,7 @@ def _time_mean(time_s: np.ndarray, values: np.ndarray) -> float:
     """Time average ``1/T * integral(values dt)`` by the trapezoidal rule."""
     if values.shape[0] < 2:
         return float(values[0])
-    return float(np.trapezoid(values, time_s) / (time_s[-1] - time_s[0]))
+    return float(trapezoid(values, time_s) / (time_s[-1] - time_s[0]))
 
 
 def _as_1d(name: str, values: Any) -> np.ndarray:
