@@ -22,6 +22,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from friction_model.geometry import reference_block
+from synthetic import footage
 from synthetic._render_tir import StepProfile
 from synthetic.footage import (
     TRUTH_COLUMNS,
@@ -218,8 +219,8 @@ def test_simulated_dynamics_follow_the_rigid_model():
         friction=ExponentialLaw(a1=0.15, a2=0.25, a3=-0.8),
         t_end_s=(first + spec.n_frames - 0.75) / fps,
         output_step_s=1.0 / fps,
-        rtol=1e-4,
-        atol=1e-8,
+        rtol=footage._RTOL,  # the renderer's own tolerances: the same integration
+        atol=footage._ATOL,
     )
     model = res.data[res.data["element"] == 0]["contact_fraction"].to_numpy()[first:]
     # Same integration, same Winkler contact: agreement to rounding.

@@ -9,6 +9,7 @@ import pytest
 from friction_model.dynamics import velocity_step
 from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
 from friction_model.laws import ExponentialLaw, RelaxedFriction
+from synthetic import footage
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames
 
 V1, V2, T_STEP, TAU, FPS, SETTLE = 1.0, 5.0, 0.01, 0.02, 2000.0, 0.05
@@ -59,7 +60,8 @@ def test_truth_is_the_rigid_model_with_the_step_and_relaxation(step_truth):
     t_end = (round(SETTLE * FPS) + N_FRAMES - 0.75) / FPS
     res = simulate_block_dynamics(params, velocity=velocity_step(V1, V2, SETTLE + T_STEP),
                                   preload=preload, friction=law, t_end_s=t_end,
-                                  output_step_s=1 / FPS, rtol=1e-4, atol=1e-8)
+                                  output_step_s=1 / FPS, rtol=footage._RTOL,
+                                  atol=footage._ATOL)
     d = res.data[res.data["element"] == 0]
     expected = d["tip_deflection_mm"].to_numpy()[round(SETTLE * FPS):]
     # the same integration with the same tolerances: equal to rounding of the CSV values
