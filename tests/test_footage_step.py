@@ -97,14 +97,17 @@ def test_deflection_lags_the_step_by_tau(step_truth):
 
 @pytest.mark.slow
 def test_no_relaxation_reaches_the_new_level_within_a_few_ms():
-    # the control: without Eq. 5.12 the element settles on the new level within ~5 ms
-    # (the element dynamics alone), far faster than tau
+    # the control: without Eq. 5.12 the element settles on the new level within ~8 ms
+    # (the element dynamics alone), far faster than tau. The first ms after the step are a
+    # stick-slip burst whose phase follows the integrator's step choice (at 5 ms 0.0 %,
+    # 12.7 % and 5.2 % of the step off the new level at rtol 1e-4, 1e-5, 1e-6); from 8 ms on
+    # every tolerance is within 0.5 %, so 5 % there is a margin of ten
     spec = _step_spec(friction_relaxation_s=0.0, velocity_mps=3.0, n_frames=61)
     truth = _truth(spec)
     t = truth["time_s"].to_numpy() - T_STEP
     a = truth["deflection_angle_deg"].to_numpy()
     after = a[t > 0.015].mean()
-    assert np.all(np.abs(a[t > 0.005] - after) < 0.05 * abs(a[0] - after))
+    assert np.all(np.abs(a[t >= 0.008] - after) < 0.05 * abs(a[0] - after))
 
 
 def test_block_travel_integrates_the_velocity():
