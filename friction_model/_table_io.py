@@ -33,6 +33,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+#: Major version of pandas (its CSV parser's float rounding changed in 3.0).
+_PANDAS_MAJOR = int(pd.__version__.split(".")[0])
+
 __all__ = [
     "CsvDialect",
     "TableFormatError",
@@ -480,6 +483,10 @@ def read_columns(
         "skip_blank_lines": False,
         "encoding": _ENCODING,
     }
+    if _PANDAS_MAJOR < 3:
+        # correctly rounded doubles: pandas 2's default "high" parser can be one unit in the
+        # last place off; pandas 3 rounds correctly by default (and deprecates the option)
+        options["float_precision"] = "round_trip"
     # usecols (slower) only when the file has columns of its own
     if usecols is not None and len(usecols) < len(head.columns):
         options["usecols"] = list(usecols)
