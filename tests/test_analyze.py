@@ -56,8 +56,10 @@ def test_default_outputs_are_the_cheap_ones(clip, tmp_path):
     out = tmp_path / "out"
     assert main(["analyze", str(clip), "--out", str(out), "--workers", "1", "-q"]) == 0
     files = sorted(p.name for p in (out / clip.name).iterdir())
-    # tables, summary and a few overlay images; no plots, no overlay video unless asked
-    assert "overlay.avi" not in files and not [f for f in files if f.endswith(".png")]
+    # tables, summary, the lit mask and a few overlay images; no plots, no overlay video
+    # unless asked
+    assert "overlay.avi" not in files
+    assert [f for f in files if f.endswith(".png")] == ["lit_mask.png"]
     assert {"frames.csv", "elements.csv", "summary.json", "overlays"} <= set(files)
 
 
@@ -251,16 +253,16 @@ def test_a_failure_while_writing_keeps_the_old_result(clip, tmp_path, monkeypatc
     assert [p.name for p in out.iterdir()] == [clip.name]
 
 
-def test_block_that_never_leaves_uses_per_frame_background(tmp_path):
-    """A clip showing only the middle of the pass: the percentile reference holds the block."""
+def test_block_that_never_leaves_gets_a_fitted_free_surface(tmp_path):
+    """A clip showing only the middle of the pass: the percentile image holds the block."""
     folder = _render(tmp_path / "stay", n_frames=12, center_time_s=0.0015)
     truth = pd.read_csv(folder / "ground_truth.csv")
     block = truth[truth.element == -1].set_index("frame")
     assert block.in_view.all()
     res = analyze_video(folder, options=FAST)
-    assert res.summary["reference"]["method"].startswith("per-frame")
+    assert "fitted" in res.summary["reference"]["method"]
     rel = (res.frames.set_index("frame").contact_area_mm2 - block.contact_area_mm2).abs()
-    # per-frame background (closing) is rougher than a clean reference: 5 % allowed
+    # the fitted free surface is rougher than a clean reference: 5 % allowed
     assert (rel / block.contact_area_mm2).median() <= 0.05
 
 

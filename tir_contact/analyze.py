@@ -11,12 +11,18 @@ contrast (:mod:`tir_contact.segment`), then block position, elements, front-edge
 lift-off and deflection (:mod:`tir_contact.features`). Side view: element chords and
 deflection angles (:mod:`tir_contact.side`).
 
-Reference. Each pixel's 90th percentile over the sampled frames (the sliding block covers a
-pixel in a minority of them). When the block never leaves the view (or there are fewer than
-5 frames), that percentile still holds the block: this is detected (a dark region larger than
-``min_block_fraction`` of the image relative to a morphological closing of the reference) and
-the background is then estimated from each frame itself
-(:func:`tir_contact.calibrate.reference_from_frame`). The method used is in ``summary.json``.
+Reference (TIR, :func:`tir_contact.reference.tir_reference`). The lit zone, where TIR light
+reaches, is found on the bright image (each pixel's 90th percentile over the sampled frames);
+nothing outside it is ever contact. The camera mode is detected: when something moves
+through the sampled frames the block passes a fixed camera and the percentile image is the
+free surface; when nothing moves (a camera following the block, a static test, a single
+image) the free surface under the contact is estimated from the median image itself
+(:func:`tir_contact.reference.free_surface`). The free-surface noise is measured, and lit
+pixels whose darkness noise would reach the contact threshold (the soft rim of the lit
+zone) are not measured. Side view: the percentile reference when frames without the block
+exist, else each frame's own background. ``summary.json`` says what was assumed (lit
+fraction, camera mode, reference method, noise); ``--lit-mask``, ``--reference`` and
+``--camera`` override it.
 """
 
 from __future__ import annotations
@@ -36,9 +42,11 @@ import pandas as pd
 
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
-from tir_contact.calibrate import Reference, reference_from_frame, reference_from_frames
+from tir_contact.calibrate import Reference, reference_from_frames
 from tir_contact.features import EDGE_MARGIN_PX, BlockLayout, _element_records, _frame_rows
+from tir_contact.illumination import lit_zone_from_file
 from tir_contact.meta import META_FILENAME, clip_footage, read_meta_json
+from tir_contact.reference import TirReference, measurable, tir_reference
 from tir_contact.segment import (
     _box_and_counts,
     _label_box,
@@ -74,6 +82,7 @@ FRAME_COLUMNS = [
     "n_regions",
     "deflection_angle_deg",
     "tip_deflection_mm",
+    "contact_at_lit_rim",
 ]
 
 #: Columns of ``elements.csv``, in order (element 0 leads).
@@ -105,6 +114,7 @@ REGION_COLUMNS = [
     "bbox_width_mm",
     "bbox_height_mm",
     "mean_darkness",
+    "at_lit_rim",
 ]
 
 #: Files that make a result complete (``--resume`` checks them).
@@ -134,11 +144,22 @@ class AnalysisOptions:
     min_area_px : int
         Smaller contact regions are dropped (noise, dust).
     min_block_fraction : float
-        A dark region of the percentile reference larger than this fraction of the image
-        means the block never left the view: the background is then estimated per frame.
-    closing_size_px : int
-        Structuring element of the per-frame background estimate (odd), larger than the
-        widest contact strip.
+        A region that moves through the sampled frames over more than this fraction of the
+        lit zone means the block passes a fixed camera (camera mode detection).
+    lit_mask : str or Path, optional
+        Image file, non-zero where TIR light reaches (the frame's size); found from the
+        footage when omitted (:func:`tir_contact.illumination.find_lit_zone`).
+    camera : {"auto", "fixed", "follows"}
+        ``"fixed"``: the block passes a fixed camera (frames without it give the free
+        surface); ``"follows"``: the contact stays in view (camera following the block,
+        static test, single image); ``"auto"`` detects it.
+    noise_sigmas : float
+        Lit pixels whose darkness noise times this reaches the contact threshold are not
+        measured (5: a noise peak crosses the threshold in fewer than 1 of 10^6 pixels).
+    static_min_darkness : float
+        Lowest contact threshold when nothing moves (``camera="follows"``): ice texture
+        (bubbles, scratches, dust) removes at most about a third of the light and cannot
+        be told from contact by motion there.
     overlay_frames : int
         Overlay images written (first, middle and last frames with the block, the frame of
         largest contact, ...).
@@ -164,7 +185,10 @@ class AnalysisOptions:
     min_darkness: float = 0.25
     min_area_px: int = 4
     min_block_fraction: float = 0.02
-    closing_size_px: int = 101
+    lit_mask: str | None = None
+    camera: str = "auto"
+    noise_sigmas: float = 5.0
+    static_min_darkness: float = 0.4
     overlay_frames: int = 4
     overlay_video: bool = False
     overlay_video_max_frames: int = 400
@@ -181,10 +205,10 @@ class AnalysisOptions:
             raise ValueError(f"min_area_px must be >= 1, got {self.min_area_px!r}")
         if self.regions not in ("auto", "always", "never"):
             raise ValueError(f"regions must be 'auto', 'always' or 'never', got {self.regions!r}")
-        if self.closing_size_px < 3 or self.closing_size_px % 2 == 0:
-            raise ValueError(
-                f"closing_size_px must be odd and >= 3, got {self.closing_size_px!r}"
-            )
+        if self.camera not in ("auto", "fixed", "follows"):
+            raise ValueError(f"camera must be 'auto', 'fixed' or 'follows', got {self.camera!r}")
+        if not self.noise_sigmas > 0:
+            raise ValueError(f"noise_sigmas must be > 0, got {self.noise_sigmas!r}")
 
 
 @dataclass
@@ -310,22 +334,6 @@ def _read_reference_file(path: str, shape: tuple[int, int], min_relative: float 
     return Reference(image, valid, "file", 1)
 
 
-def _reference_holds_block(reference: Reference, contact_is: str, options: AnalysisOptions) -> bool:
-    """True when the percentile reference still shows a block-sized dark region."""
-    import cv2
-
-    own = reference_from_frame(reference.image, contact_is=contact_is,
-                               size_px=options.closing_size_px)
-    ratio = reference.image / np.maximum(own.image, 1e-6)
-    d = 1.0 - ratio if contact_is == "dark" else ratio - 1.0
-    dark = (d > options.min_darkness) & reference.valid
-    if not dark.any():
-        return False
-    _, _, stats, _ = cv2.connectedComponentsWithStats(dark.astype(np.uint8), connectivity=8)
-    largest = int(stats[1:, cv2.CC_STAT_AREA].max()) if len(stats) > 1 else 0
-    return largest > options.min_block_fraction * dark.size
-
-
 def _frames_differ(samples: list[np.ndarray], reference: Reference, contact_is: str,
                    options: AnalysisOptions) -> bool:
     """True when some sampled frame has a block-sized region darker than the reference."""
@@ -356,6 +364,9 @@ class _Setup:
     numbers: np.ndarray  # recorded frame number of each readable frame (reader.frame_numbers)
     bad: set[int] = field(default_factory=set)  # indices of frames that could not be read
     grey_range: tuple[float, float] = (0.0, 0.0)  # 1st and 99th percentile of sampled pixels
+    camera: str = "fixed"  # "fixed": the block passes the camera; "follows": it stays in view
+    tir: TirReference | None = None  # lit zone, free surface and noise of a TIR video
+    threshold: float = math.nan  # darkness threshold of contact (TIR)
 
 
 def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
@@ -393,35 +404,74 @@ def _prepare(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     pixels = np.concatenate([f[::4, ::4].ravel() for f in samples])
     grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
     reference: Reference | None
-    if options.reference is not None:
+    tref: TirReference | None = None
+    if view == "tir":
+        tref = _tir_reference(samples, shape, contact_is, options)
+        reference, method = tref.reference, tref.method
+    elif options.reference is not None:
         reference = _read_reference_file(options.reference, shape)
         method = "file"
-    elif len(samples) >= 5:
+    elif len(samples) >= 5 and options.camera != "follows":
         reference = reference_from_frames(samples, contact_is=contact_is,
                                           percentile=options.percentile)
         method = "percentile"
-        if view == "tir" and _reference_holds_block(reference, contact_is, options):
-            reference, method = None, "per-frame closing (the block never leaves the view)"
-        elif view == "side" and not _frames_differ(samples, reference, contact_is, options):
+        if options.camera == "auto" and not _frames_differ(samples, reference, contact_is,
+                                                           options):
             # no sampled frame differs from the percentile image: the block is in every frame
             # (a camera following the block) or in none; the side view then normalises each
             # frame by its own background (tir_contact.side.side_darkness)
             reference, method = None, "per-frame background (no frame without the block)"
     else:
-        reference, method = None, f"per-frame closing ({len(samples)} frame(s) only)"
+        reference, method = None, f"per-frame background ({len(samples)} frame(s) sampled)"
     contrast = options.contrast
     if contrast is None and view == "tir":
-        values = []
-        shared = Normaliser(reference, contact_is) if reference is not None else None
-        for frame in samples:
-            norm = shared or Normaliser.own_background(frame, contact_is, options.closing_size_px)
-            values.append(estimate_contrast(norm(frame), min_darkness=options.min_darkness))
+        norm = Normaliser(reference, contact_is)
+        values = [estimate_contrast(norm(f), min_darkness=options.min_darkness) for f in samples]
         finite = [v for v in values if np.isfinite(v)]
         contrast = float(np.median(finite)) if finite else None
+    threshold = math.nan
+    if tref is not None:  # pixels too noisy for the threshold are not measured
+        threshold = _threshold(contrast, options, tref.camera)
+        tref = measurable(tref, threshold, n_sigma=options.noise_sigmas)
+        reference = tref.reference
     layout = BlockLayout.from_meta(meta)
+    camera = tref.camera if tref is not None else (
+        "fixed" if reference is not None else "follows")
     return _Setup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
                   reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
-                  grey_range)
+                  grey_range, camera, tref, threshold)
+
+
+def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:
+    """The darkness threshold of contact: half the contrast, at least half ``min_darkness``.
+
+    When nothing moves (``camera="follows"``) the free surface under a static dark spot is
+    estimated, so ice texture (bubbles, scratches, dust: they remove at most about a third
+    of the light, where contact removes most of it) would count as contact; the threshold
+    is then at least ``static_min_darkness``.
+    """
+    floor = 0.5 * options.min_darkness
+    if camera == "follows":
+        floor = max(floor, options.static_min_darkness)
+    if contrast is None or not math.isfinite(contrast):
+        return floor
+    return max(0.5 * contrast, floor)
+
+
+def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
+                   options: AnalysisOptions) -> TirReference:
+    """Lit zone, camera mode, free surface and noise (:func:`tir_contact.reference.tir_reference`)
+    with the user's lit mask and reference image, when given."""
+    lit = lit_zone_from_file(options.lit_mask, shape) if options.lit_mask else None
+    image = (_read_reference_file(options.reference, shape).image
+             if options.reference is not None else None)
+    try:
+        return tir_reference(samples, contact_is=contact_is, percentile=options.percentile,
+                             camera=options.camera, lit=lit, image=image,
+                             min_darkness=options.min_darkness,
+                             min_block_fraction=options.min_block_fraction)
+    except ValueError as exc:
+        raise FootageError(str(exc), options.lit_mask) from exc
 
 
 def _fully_in_view(front_mm: float, setup: _Setup, margin_mm: float = 0.5) -> bool:
@@ -444,14 +494,14 @@ class _FrameAnalyser:
             Normaliser(setup.reference, setup.contact_is) if setup.reference else None
         )
         self.ice_y_px: float | None = None
+        rim = setup.tir.lit.rim if setup.tir is not None else None
+        self._rim = rim if rim is not None and rim.any() else None
         self.want_regions = options.regions == "always" or (
             options.regions == "auto" and setup.layout.element_lengths_mm is None
         )
         # fast path (fixed reference and contrast): threshold the raw frame, compute the
         # darkness only around the contact (tir_contact._darkness)
-        self._threshold = math.nan
-        if setup.contrast is not None and math.isfinite(setup.contrast):
-            self._threshold = max(0.5 * setup.contrast, 0.5 * options.min_darkness)
+        self._threshold = setup.threshold
         self._raw_tests: dict[str, RawContactTest | None] = {}  # by dtype character
         self._raw_buf: np.ndarray | None = None
         self._sums: tuple | None = None  # column sums of the last box darkness (fast path)
@@ -462,11 +512,7 @@ class _FrameAnalyser:
         )
 
     def darkness(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        if self.normalise is not None:
-            return self.normalise(frame), self.normalise.valid
-        norm = Normaliser.own_background(frame, self.setup.contact_is,
-                                         self.options.closing_size_px)
-        return norm(frame), norm.valid
+        return self.normalise(frame), self.normalise.valid
 
     def _raw_test(self, frame: np.ndarray) -> RawContactTest | None:
         if self._box is None or not math.isfinite(self._threshold):
@@ -488,7 +534,7 @@ class _FrameAnalyser:
             raw = test(frame, out=self._raw_buf)
         if raw is None:
             d, valid = self.darkness(frame)
-            contact = segment_frame(d, contrast=self.setup.contrast,
+            contact = segment_frame(d, contrast=2.0 * self._threshold,
                                     min_darkness=self.options.min_darkness,
                                     min_area_px=self.options.min_area_px)
             return d, valid, contact
@@ -521,11 +567,22 @@ class _FrameAnalyser:
         row["n_regions"] = contact.n_regions
         row["block_fully_in_view"] = row["block_in_view"] and _fully_in_view(
             row["block_front_x_mm"], s)
+        at_rim = self._at_rim(contact)
+        row["contact_at_lit_rim"] = bool(at_rim[1:].any())
         regions = None
         if self.want_regions:
             regions = contact.region_arrays()
             regions["frame"] = np.full(contact.n_regions, k)
+            regions["at_lit_rim"] = at_rim[1:]
         return row, el_rows, regions, contact
+
+    def _at_rim(self, contact: Any) -> np.ndarray:
+        """Which regions (index = label, 0 unused) touch the rim of the lit zone."""
+        out = np.zeros(contact.n_regions + 1, bool)
+        if self._rim is not None and contact.box is not None:
+            out[np.unique(contact.box_labels[self._rim[contact.box]])] = True
+            out[0] = False
+        return out
 
     def side(self, k: int, frame: np.ndarray) -> tuple[dict, pd.DataFrame, Any]:
         s = self.setup
@@ -595,6 +652,7 @@ def _regions_table(regions: list[dict], setup: _Setup) -> pd.DataFrame:
         "bbox_x0_mm": cat["bbox_x0_px"] * mm, "bbox_y0_mm": cat["bbox_y0_px"] * mm,
         "bbox_width_mm": cat["bbox_width_px"] * mm, "bbox_height_mm": cat["bbox_height_px"] * mm,
         "mean_darkness": cat["mean_darkness"],
+        "at_lit_rim": cat["at_lit_rim"].astype(bool),
     }, columns=REGION_COLUMNS)
 
 
@@ -868,14 +926,47 @@ def _summary(path: Path, name: str, setup: _Setup, options: AnalysisOptions,
             "n_frames": ref.n_frames if ref is not None else 1,
             "excluded_fraction": ref.excluded_fraction if ref is not None else None,
         },
+        "camera": setup.camera,
+        **_tir_assumptions(setup),
         "contrast": setup.contrast,
-        "threshold": None if setup.contrast is None else 0.5 * setup.contrast,
+        "threshold": _finite_or_none(setup.threshold),
         "meta": setup.meta,
         "options": asdict(options),
         "fingerprint": footage_fingerprint(path),
         "frames_per_s": len(frames) / elapsed if elapsed > 0 else None,
         "package_version": __version__,
     }
+
+
+def _tir_assumptions(setup: _Setup) -> dict[str, Any]:
+    """What the TIR analysis assumed about the light and the noise (``summary.json``)."""
+    t = setup.tir
+    if t is None:
+        return {}
+    lit = t.lit.mask
+    sigma = t.noise.sigma_darkness(t.reference.image)
+    measured = t.reference.valid
+    return {
+        "lit_fraction": float(lit.mean()),
+        "lit_zone": {
+            "method": t.lit.method,
+            "fraction": float(lit.mean()),
+            "bright_level": _finite_or_none(t.lit.bright_level),
+            "black_level": _finite_or_none(t.lit.black_level),
+            "measured_fraction": float(measured.mean()),
+            "too_noisy_fraction": float((lit & ~measured).mean()),
+        },
+        "noise": {
+            "grey_variance_a_dn2": t.noise.a,
+            "grey_variance_b_dn": t.noise.b,
+            "darkness_sigma_median": _finite_or_none(float(np.median(sigma[measured]))
+                                                     if measured.any() else math.nan),
+        },
+    }
+
+
+def _finite_or_none(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
 
 
 class _OverlayVideo:
@@ -963,6 +1054,8 @@ def _write(result: VideoAnalysis, final: Path, reader: Any, analyser: _FrameAnal
                                   extra))
         if video is not None and video.path.exists() and video.path.stat().st_size > 0:
             os.replace(video.path, stage / "overlay.avi")
+        if setup.tir is not None:  # the lit zone, white where TIR light reaches
+            cv2.imwrite(str(stage / "lit_mask.png"), setup.tir.lit.mask.astype(np.uint8) * 255)
         write_json(stage / "summary.json", result.summary)
         return replace_folder(stage, final)
     except BaseException:

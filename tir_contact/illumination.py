@@ -1,0 +1,200 @@
+"""Where the TIR light reaches: the lit zone of the prism in the camera's view.
+
+Total internal reflection lights only the part of the ice surface that the prism's light
+reaches. On real rigs this is often a vignetted disc, an ellipse or a band covering a
+minority of the frame, with a soft rim and a dark outside. Nothing outside the lit zone can
+be measured, so nothing outside it is ever contact.
+
+Method (:func:`find_lit_zone`), on the free-surface image (a frame, or each pixel's bright
+percentile over frames):
+
+1. Shrink the image to about 256 px on its long side (area mean) and smooth it (median of
+   5, then a Gaussian of 1.5 px): noise, JPEG blocks and dust go, the illumination stays.
+2. Levels: the bright level is the 99.5th percentile; the black level the 0.5th percentile,
+   but at most a tenth of the bright level (a frame lit all over has no black).
+3. Lit: brighter than the black level plus ``level_fraction`` (default 0.25) of the span
+   between black and bright. Contacts inside the zone are dark holes in it: a closing with
+   a disc of 3 % of the image and a hole fill put them back; bright specks smaller than
+   2 % of the frame are dropped; each region is replaced by its convex hull, which closes
+   the notches of contacts at the rim.
+4. The rim is the band of ``rim_px`` (default 1 % of the image's long side) inside the
+   zone's edge; contact regions that touch it are flagged, since part of them may lie
+   where there is too little light to see them.
+
+Assumptions: the lit zone is one or a few convex regions (``convex=False`` drops this), each
+larger than 2 % of the frame; its light falls off smoothly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+__all__ = ["LitZone", "find_lit_zone", "lit_zone_from_file", "whole_frame"]
+
+#: Long side, px, of the shrunk image the zone is found on.
+_WORK_PX = 256
+
+
+@dataclass(frozen=True)
+class LitZone:
+    """The lit part of the frame.
+
+    Attributes
+    ----------
+    mask : (M, N) ndarray of bool
+        True where TIR light reaches.
+    rim : (M, N) ndarray of bool
+        The band inside the zone's edge (empty when the zone fills the frame).
+    method : str
+        How the zone was found: ``"found"``, ``"whole frame"`` or ``"file"``.
+    bright_level, black_level : float
+        Grey levels of the lit free surface and of the unlit outside.
+    """
+
+    mask: np.ndarray
+    rim: np.ndarray
+    method: str
+    bright_level: float = float("nan")
+    black_level: float = float("nan")
+
+    @property
+    def fraction(self) -> float:
+        """Fraction of the frame that is lit."""
+        return float(self.mask.mean())
+
+    def touches_rim(self, labels: np.ndarray, n_labels: int) -> np.ndarray:
+        """Which labelled regions (1..n_labels) touch the rim: ``(n_labels + 1,)`` bool."""
+        out = np.zeros(n_labels + 1, bool)
+        if self.rim.any():
+            out[np.unique(labels[self.rim])] = True
+        out[0] = False
+        return out
+
+
+def whole_frame(shape: tuple[int, int]) -> LitZone:
+    """A lit zone covering the whole frame (no rim)."""
+    return LitZone(np.ones(shape, bool), np.zeros(shape, bool), "whole frame")
+
+
+def _rim(mask: np.ndarray, rim_px: int) -> np.ndarray:
+    """Pixels of `mask` within `rim_px` of an unlit pixel; the frame border is not a rim."""
+    if mask.all() or rim_px < 1:
+        return np.zeros_like(mask)
+    padded = np.pad(mask.astype(np.uint8), rim_px + 1, mode="edge")
+    k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rim_px + 1, 2 * rim_px + 1))
+    inner = cv2.erode(padded, k)[rim_px + 1: -rim_px - 1, rim_px + 1: -rim_px - 1]
+    return mask & ~inner.astype(bool)
+
+
+def find_lit_zone(
+    image: np.ndarray,
+    *,
+    level_fraction: float = 0.25,
+    rim_px: int | None = None,
+    min_region_fraction: float = 0.02,
+    convex: bool = True,
+) -> LitZone:
+    """Find the lit zone of a free-surface image (see the module notes for the method).
+
+    Parameters
+    ----------
+    image : (M, N) ndarray
+        A frame or a per-pixel bright percentile over frames (dark contact).
+    level_fraction : float
+        Lit means brighter than black + this fraction of (bright - black), in (0, 1).
+    rim_px : int, optional
+        Width of the rim band, px; default 1 % of the long side (at least 2 px).
+    min_region_fraction : float
+        Lit regions smaller than this fraction of the frame are dropped.
+    convex : bool
+        Take each lit region's convex hull (a disc, ellipse or band lit through a prism is
+        convex; a contact at its rim would otherwise cut a notch into it). Pixels the hull
+        adds that are too dark to measure are left out later by the noise test
+        (:func:`tir_contact.reference.measurable`).
+
+    Returns
+    -------
+    LitZone
+
+    Examples
+    --------
+    >>> yy, xx = np.mgrid[:200, :300]
+    >>> disc = np.where((xx - 150) ** 2 + (yy - 100) ** 2 < 60 ** 2, 100.0, 5.0)
+    >>> zone = find_lit_zone(disc)
+    >>> round(zone.fraction / (np.pi * 60 ** 2 / 60000), 1)  # the disc's share of the frame
+    1.0
+    """
+    img = np.asarray(image, dtype=np.float32)
+    if img.ndim != 2:
+        raise ValueError(f"image must be 2-D, got shape {img.shape}")
+    if not 0.0 < level_fraction < 1.0:
+        raise ValueError(f"level_fraction must lie in (0, 1), got {level_fraction!r}")
+    h, w = img.shape
+    scale = min(1.0, _WORK_PX / max(h, w))
+    small = cv2.resize(img, (max(1, round(w * scale)), max(1, round(h * scale))),
+                       interpolation=cv2.INTER_AREA) if scale < 1.0 else img.copy()
+    small = cv2.medianBlur(small, 5)
+    small = cv2.GaussianBlur(small, (0, 0), 1.5)
+    bright = float(np.percentile(small, 99.5))
+    black = min(float(np.percentile(small, 0.5)), 0.1 * bright)
+    if not bright > black:
+        return whole_frame((h, w))
+    lit = (small > black + level_fraction * (bright - black)).astype(np.uint8)
+    d = max(3, round(0.03 * max(small.shape)) | 1)
+    lit = cv2.morphologyEx(lit, cv2.MORPH_CLOSE,
+                           cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)),
+                           borderType=cv2.BORDER_REPLICATE)
+    lit = _fill_holes(lit)
+    n, labels, stats, _ = cv2.connectedComponentsWithStats(lit, connectivity=8)
+    hull = np.zeros(lit.shape, np.uint8)
+    for k in range(1, n):
+        if stats[k, cv2.CC_STAT_AREA] >= min_region_fraction * lit.size:
+            region = (labels == k).astype(np.uint8)
+            if convex:  # contacts at the rim are notches in the zone: the hull closes them
+                points = cv2.findNonZero(region)
+                cv2.fillConvexPoly(hull, cv2.convexHull(points), 1)
+            else:
+                hull |= region
+    lit = hull.astype(np.float32)
+    if scale < 1.0:
+        lit = cv2.resize(lit, (w, h), interpolation=cv2.INTER_LINEAR)
+    mask = lit >= 0.5
+    if not mask.any():
+        return LitZone(mask, mask.copy(), "found", bright, black)
+    rim = _rim(mask, max(2, round(0.01 * max(h, w))) if rim_px is None else rim_px)
+    method = "whole frame" if mask.all() else "found"
+    return LitZone(mask, rim, method, bright, black)
+
+
+def _fill_holes(mask: np.ndarray) -> np.ndarray:
+    """`mask` (uint8 0/1) with every background region not reaching the border filled."""
+    inverse = (mask == 0).astype(np.uint8)
+    _, labels = cv2.connectedComponents(inverse, connectivity=4)
+    border = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
+    outside = np.isin(labels, border[border > 0])
+    return (~outside).astype(np.uint8)
+
+
+def lit_zone_from_file(path: str | Path, shape: tuple[int, int]) -> LitZone:
+    """A lit zone the user drew: an image file, non-zero where lit, of the frame's size.
+
+    Raises
+    ------
+    ValueError
+        The file cannot be read or its size differs from the frames'.
+    """
+    path = Path(path)
+    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if image is None:
+        raise ValueError(f"{path}: cannot read the lit-mask image")
+    if image.ndim == 3:
+        image = image.max(axis=2)
+    if image.shape != tuple(shape):
+        raise ValueError(f"{path}: lit mask is {image.shape[1]} x {image.shape[0]} px, the "
+                         f"footage {shape[1]} x {shape[0]} px")
+    mask = image > 0
+    return LitZone(mask, _rim(mask, max(2, round(0.01 * max(shape)))), "file")

@@ -1,0 +1,496 @@
+"""The free-surface image when the contact never leaves the view, and the image noise.
+
+A TIR frame is read as darkness ``D = 1 - I / I_free`` against the free (contact-free)
+surface ``I_free``. When the block passes a fixed camera, each pixel's bright percentile
+over the frames is that surface (:func:`tir_contact.calibrate.reference_from_frames`). In a
+static test, a single photograph or a camera that follows the block, no frame shows the
+surface under the contact, and it has to be estimated from the frame itself.
+
+Method of :func:`free_surface` (no contact size known in advance):
+
+1. The image is smoothed (Gaussian, 1.5 px) against noise.
+2. A grey closing with a disc of ``size`` px (on a copy shrunk to about 256 px) removes
+   dark regions narrower than the disc and keeps the illumination: a closing leaves a
+   dome-shaped (vignetted) light field as it is.
+3. Contact candidates are the lit pixels darker than that closing by more than
+   ``candidate_darkness``, with holes filled: a contact wider than the disc is only found
+   along its edge, as a ring, and the fill makes it whole.
+4. The disc must be wider than every candidate: when the widest candidate (twice its
+   largest inscribed radius) needs more, the disc grows to 1.5 times that plus 10 px and
+   steps 2-4 repeat (at most 4 times).
+5. The free surface is the smoothed image itself away from the candidates (so a soft rim
+   or a speck of dust stays where it is). Over each candidate and a margin of 6 px around
+   it, a quadratic surface fitted to a ring of free surface around it continues the light
+   field (a closing would flatten a light maximum the contact covers).
+
+:class:`NoiseModel` gives the darkness noise of each pixel: grey-value noise grows with the
+signal (read noise plus shot noise, ``var = a + b I``), so the darkness noise
+``sqrt(a + b I_free) / I_free`` is largest where the light is weakest.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from tir_contact.calibrate import Reference
+from tir_contact.illumination import LitZone
+
+__all__ = [
+    "CAMERA_MODES",
+    "FreeSurface",
+    "NoiseModel",
+    "TirReference",
+    "free_surface",
+    "measurable",
+    "noise_model",
+    "tir_reference",
+]
+
+_WORK_PX = 256
+#: Smoothing of the image (Gaussian sigma, px) before the free surface is estimated.
+SMOOTH_SIGMA_PX = 1.5
+#: Margin (px) around the contact candidates where the closing replaces the image.
+MARGIN_PX = 6
+
+
+@dataclass(frozen=True)
+class FreeSurface:
+    """Result of :func:`free_surface`.
+
+    Attributes
+    ----------
+    image : (M, N) ndarray of float32
+        The estimated contact-free surface.
+    candidates : (M, N) ndarray of bool
+        The contact candidates (holes filled) the estimate went around.
+    size_px : int
+        Diameter of the closing disc used.
+    widest_px : float
+        Widest candidate (twice its largest inscribed radius), px.
+    """
+
+    image: np.ndarray
+    candidates: np.ndarray
+    size_px: int
+    widest_px: float
+
+
+def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
+    """Grey closing with a disc of `size_px`, on a shrunk copy, back at full size."""
+    h, w = smooth.shape
+    scale = min(1.0, _WORK_PX / max(h, w))
+    small = (cv2.resize(smooth, (max(1, round(w * scale)), max(1, round(h * scale))),
+                        interpolation=cv2.INTER_AREA) if scale < 1.0 else smooth)
+    d = max(3, round(size_px * scale) | 1)
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d))
+    # The image is extended past its border by odd reflection (2 f(border) - f(inside)),
+    # which continues a light falling towards the border: a mirror or a constant would
+    # turn it into a valley the closing fills. A closing leaves light fields whose
+    # brighter-than sets are convex (a vignetted disc or band) exactly as they are.
+    # A dark contact near the border would come back as a bright bump: the extension is
+    # capped at the border value.
+    pad = d // 2 + 2
+    big = np.minimum(np.pad(small, pad, mode="reflect", reflect_type="odd"),
+                     np.pad(small, pad, mode="edge"))
+    closed = cv2.morphologyEx(big, cv2.MORPH_CLOSE, disc, borderType=cv2.BORDER_REPLICATE)
+    closed = cv2.GaussianBlur(closed, (0, 0), 1.0)[pad:-pad, pad:-pad]
+    if scale < 1.0:
+        closed = cv2.resize(closed, (w, h), interpolation=cv2.INTER_LINEAR)
+    return np.maximum(closed, smooth)  # a closing never lies below the image
+
+
+def _fill_holes(mask: np.ndarray) -> np.ndarray:
+    inverse = (~mask).astype(np.uint8)
+    _, labels = cv2.connectedComponents(inverse, connectivity=4)
+    border = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
+    return ~np.isin(labels, border[border > 0]) & ~(inverse.astype(bool) & (labels == 0))
+
+
+def free_surface(
+    image: np.ndarray,
+    lit: np.ndarray | None = None,
+    *,
+    contact_is: str = "dark",
+    candidate_darkness: float = 0.1,
+    size_px: int = 101,
+    grow: bool = True,
+) -> FreeSurface:
+    """Estimate the contact-free surface of an image that shows contact (module notes).
+
+    Parameters
+    ----------
+    image : (M, N) ndarray
+        A frame, or the temporal median of the frames of a static test.
+    lit : (M, N) ndarray of bool, optional
+        Where light reaches (:func:`tir_contact.illumination.find_lit_zone`); all of it by
+        default.
+    contact_is : {"dark", "bright"}
+        Bright contact uses an opening instead of a closing (the image is mirrored).
+    candidate_darkness : float
+        Darkness against the closing above which a pixel is a contact candidate.
+    size_px : int
+        Starting diameter of the closing disc, px.
+    grow : bool
+        Let the disc grow with the widest candidate (False: keep `size_px`, e.g. per frame
+        of a video whose contact size is known from its first frames).
+
+    Returns
+    -------
+    FreeSurface
+
+    Examples
+    --------
+    >>> yy, xx = np.mgrid[:240, :320]
+    >>> light = 200.0 - 0.002 * ((xx - 160) ** 2 + (yy - 120) ** 2)  # vignetted
+    >>> contact = (xx - 150) ** 2 + (yy - 110) ** 2 < 70 ** 2        # 140 px across
+    >>> fs = free_surface(np.where(contact, 0.3 * light, light))
+    >>> fs.size_px > 140, float(np.abs(fs.image / light - 1).max()) < 0.05
+    (True, True)
+    """
+    img = np.asarray(image, dtype=np.float32)
+    if img.ndim != 2:
+        raise ValueError(f"image must be 2-D, got shape {img.shape}")
+    if contact_is not in ("dark", "bright"):
+        raise ValueError(f"contact_is must be 'dark' or 'bright', got {contact_is!r}")
+    top = float(img.max()) if img.size else 0.0
+    work = img if contact_is == "dark" else top - img
+    lit_mask = np.ones(img.shape, bool) if lit is None else np.asarray(lit, bool)
+    smooth = cv2.GaussianBlur(work, (0, 0), SMOOTH_SIGMA_PX, borderType=cv2.BORDER_REPLICATE)
+    size = max(3, int(size_px) | 1)
+    for _ in range(4):
+        closed = _closing(smooth, size)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d = 1.0 - smooth / np.maximum(closed, 1e-6)
+        cand = _fill_holes((d > candidate_darkness) & lit_mask)
+        widest = 0.0
+        if cand.any():
+            dist = cv2.distanceTransform(cand.astype(np.uint8), cv2.DIST_L2, 5)
+            # no free pixel at all (black footage): the distance is huge; cap at the image
+            widest = min(2.0 * float(dist.max()), float(max(img.shape)))
+        need = math.ceil(1.5 * widest + 10) | 1
+        if not grow or need <= size:
+            break
+        size = need
+    margin = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
+    surface = np.where(margin, closed, smooth).astype(np.float32)
+    _fit_over_contacts(surface, smooth, margin, lit_mask, widest)
+    if contact_is == "bright":
+        surface = (top - surface).astype(np.float32)
+    return FreeSurface(surface, cand, size, widest)
+
+
+#: Contacts (largest first) whose free surface is fitted by a quadratic; the rest keep the
+#: closing.
+MAX_FITTED = 16
+
+
+def _fit_over_contacts(surface: np.ndarray, smooth: np.ndarray, margin: np.ndarray,
+                       lit: np.ndarray, widest: float) -> None:
+    """Replace the closing over each contact by a quadratic fitted around it (in place).
+
+    A closing cannot restore a light maximum that the contact covers (a vignetted centre):
+    it leaves it flat. A quadratic surface ``c0 + c1 x + ... + c5 y^2`` fitted to the free
+    surface in a ring around the contact (as wide as half the widest contact, at least
+    15 px) continues the curvature. Rings with too few lit pixels keep the closing.
+    """
+    n, labels, stats, _ = cv2.connectedComponentsWithStats(margin.astype(np.uint8), 8)
+    if n <= 1:
+        return
+    ring_px = max(15, round(widest / 2))
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ring_px + 1,) * 2)
+    order = np.argsort(stats[1:, cv2.CC_STAT_AREA])[::-1][:MAX_FITTED] + 1
+    h, w = surface.shape
+    for k in order:
+        x0, y0, bw, bh = (int(v) for v in stats[k, :4])
+        r0, r1 = max(0, y0 - ring_px), min(h, y0 + bh + ring_px)
+        c0, c1 = max(0, x0 - ring_px), min(w, x0 + bw + ring_px)
+        inside = labels[r0:r1, c0:c1] == k
+        ring = (cv2.dilate(inside.astype(np.uint8), kernel).astype(bool) & ~margin[r0:r1, c0:c1]
+                & lit[r0:r1, c0:c1])
+        if ring.sum() < 30:
+            continue
+        yy, xx = np.nonzero(ring)
+        scale = float(max(r1 - r0, c1 - c0))
+        coef, *_ = np.linalg.lstsq(_quadratic(yy, xx, scale), smooth[r0:r1, c0:c1][ring],
+                                   rcond=None)
+        iy, ix = np.nonzero(inside)
+        surface[r0 + iy, c0 + ix] = (_quadratic(iy, ix, scale) @ coef).astype(np.float32)
+
+
+def _quadratic(y: np.ndarray, x: np.ndarray, scale: float) -> np.ndarray:
+    """Design matrix of a quadratic surface in ``(x, y) / scale``."""
+    u, v = x / scale, y / scale
+    return np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], axis=1)
+
+
+@dataclass(frozen=True)
+class NoiseModel:
+    """Grey-value noise of the free surface: ``var(I) = a + b * I`` (read + shot noise).
+
+    Attributes
+    ----------
+    a : float
+        Signal-independent variance, DN².
+    b : float
+        Variance per DN of signal (shot noise), DN.
+    n_pixels : int
+        Free-surface pixels the model was fitted to.
+    """
+
+    a: float
+    b: float
+    n_pixels: int
+
+    def sigma_grey(self, level: np.ndarray | float) -> np.ndarray:
+        """Standard deviation of a grey value at `level`, DN."""
+        return np.sqrt(np.maximum(self.a + self.b * np.asarray(level, float), 0.0))
+
+    def sigma_darkness(self, free: np.ndarray) -> np.ndarray:
+        """Standard deviation of the darkness ``1 - I / free`` at each pixel."""
+        free = np.asarray(free, np.float64)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = self.sigma_grey(free) / free
+        return np.where(free > 0, s, np.inf).astype(np.float32)
+
+
+def noise_model(residuals: list[np.ndarray], levels: np.ndarray,
+                usable: np.ndarray) -> NoiseModel:
+    """Fit :class:`NoiseModel` to noise residuals of the free surface.
+
+    The robust variance (1.4826 x the median absolute deviation, squared) of the residuals
+    is taken in ten bins of the free-surface level and a line ``a + b I`` fitted
+    (``a, b >= 0``). The MAD ignores the minority of pixels where a residual holds
+    contact or texture rather than noise.
+
+    Parameters
+    ----------
+    residuals : list of (M, N) ndarray
+        Pure-noise residuals in grey values: the difference of two frames of a static
+        scene divided by sqrt(2), or a frame minus its free surface.
+    levels : (M, N) ndarray
+        The free-surface grey level of each pixel.
+    usable : (M, N) ndarray of bool
+        Lit pixels away from any contact.
+
+    Returns
+    -------
+    NoiseModel
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> level = np.tile(np.linspace(20, 200, 300), (200, 1))
+    >>> res = [rng.normal(0, np.sqrt(4 + 0.5 * level)) for _ in range(2)]
+    >>> m = noise_model(res, level, np.ones(level.shape, bool))
+    >>> bool(abs(m.a - 4) < 1.5), bool(abs(m.b - 0.5) < 0.03)
+    (True, True)
+    """
+    sel = np.asarray(usable, bool)
+    if not sel.any() or not residuals:
+        return NoiseModel(0.0, 0.0, 0)
+    ref = np.asarray(levels, np.float32)[sel]
+    res = np.concatenate([np.asarray(r, np.float32)[sel] for r in residuals])
+    lev = np.tile(ref, len(residuals))
+    edges = np.unique(np.percentile(ref, np.linspace(0, 100, 11)))
+    level_list, variances = [], []
+    for lo, hi in itertools.pairwise(edges):
+        pick = (lev >= lo) & (lev <= hi)
+        if pick.sum() < 50:
+            continue
+        r = res[pick]
+        mad = float(np.median(np.abs(r - np.median(r))))
+        level_list.append(float(np.median(lev[pick])))
+        variances.append((1.4826 * mad) ** 2)
+    if not level_list:
+        mad = float(np.median(np.abs(res - np.median(res))))
+        return NoiseModel((1.4826 * mad) ** 2, 0.0, int(res.size))
+    x, y = np.array(level_list), np.array(variances)
+    if len(x) >= 2 and np.ptp(x) > 0:
+        b, a = np.polyfit(x, y, 1)
+        if b < 0:
+            a, b = float(np.mean(y)), 0.0
+        elif a < 0:
+            a, b = 0.0, float(np.sum(x * y) / np.sum(x * x))
+    else:
+        a, b = float(y.mean()), 0.0
+    return NoiseModel(float(a), float(b), int(res.size))
+
+
+# --------------------------------------------------------------------------------------------
+# the reference of one TIR video
+
+
+#: Camera modes: the block passes a fixed camera, or the contact stays in view (a camera that
+#: follows the block, a static test, a single photograph).
+CAMERA_MODES = ("fixed", "follows")
+
+
+@dataclass(frozen=True)
+class TirReference:
+    """Everything the darkness of a TIR video is measured against.
+
+    Attributes
+    ----------
+    reference : Reference
+        Free-surface image; ``valid`` is the lit zone less the pixels too noisy to measure
+        (see :func:`measurable`).
+    lit : LitZone
+        Where TIR light reaches.
+    camera : {"fixed", "follows"}
+        ``"fixed"``: the block passes the camera, so some frames show each pixel free;
+        ``"follows"``: the contact stays in view (no frame shows the surface under it).
+    method : str
+        How the free surface was made, in words (for ``summary.json``).
+    noise : NoiseModel
+        Grey-value noise of the free surface.
+    candidates : (M, N) ndarray of bool
+        Contact the free-surface estimate went around (``"follows"``), else all False.
+    """
+
+    reference: Reference
+    lit: LitZone
+    camera: str
+    method: str
+    noise: NoiseModel
+    candidates: np.ndarray
+
+
+def _moving(samples: list[np.ndarray], base: np.ndarray, lit: np.ndarray,
+            min_darkness: float, min_fraction: float) -> bool:
+    """True when some sampled frame differs from the others by a block-sized darker region.
+
+    Each frame is compared with the pixel-wise median of the samples, as darkness against
+    `base`; a 3 x 3 opening removes isolated noise pixels. A region darker by
+    `min_darkness` over more than `min_fraction` of the lit pixels means something moved.
+    """
+    median = np.median(np.stack([np.asarray(f, np.float32) for f in samples]), axis=0)
+    inv = np.where(lit, 1.0 / np.maximum(base, 1e-6), 0.0).astype(np.float32)
+    need = max(16.0, min_fraction * float(lit.sum()))
+    kernel = np.ones((3, 3), np.uint8)
+    for f in samples:
+        diff = ((median - np.asarray(f, np.float32)) * inv > min_darkness).astype(np.uint8)
+        if cv2.countNonZero(cv2.morphologyEx(diff, cv2.MORPH_OPEN, kernel)) > need:
+            return True
+    return False
+
+
+def _residuals(samples: list[np.ndarray], free: np.ndarray) -> list[np.ndarray]:
+    """Noise residuals: differences of consecutive samples / sqrt(2), or frame - free."""
+    f32 = [np.asarray(f, np.float32) for f in samples[:9]]
+    if len(f32) >= 2:
+        return [(a - b) / math.sqrt(2.0) for a, b in itertools.pairwise(f32)]
+    return [f32[0] - free]
+
+
+def tir_reference(
+    samples: list[np.ndarray],
+    *,
+    contact_is: str = "dark",
+    percentile: float = 90.0,
+    camera: str = "auto",
+    lit: LitZone | None = None,
+    image: np.ndarray | None = None,
+    min_darkness: float = 0.25,
+    min_block_fraction: float = 0.02,
+) -> TirReference:
+    """Lit zone, camera mode, free surface and noise of a TIR video from sampled frames.
+
+    1. The bright image is each pixel's `percentile` over the samples (their median when
+       fewer than 5); its lit zone is found (:func:`tir_contact.illumination.find_lit_zone`)
+       unless `lit` is given. Bright contact on a dark surface has no lit zone to find:
+       the whole frame is used.
+    2. Camera mode (unless `camera` names it): ``"fixed"`` when some sample differs from the
+       median of the samples by a darker region larger than `min_block_fraction` of the lit
+       zone (something passed), ``"follows"`` otherwise (also for fewer than 2 samples).
+    3. Free surface: ``"fixed"``: the bright image, in which the passing block is absent;
+       should it still hold a block-sized dark region (a slow block), that region is
+       replaced by :func:`free_surface`. ``"follows"``: :func:`free_surface` of the median
+       of the samples.
+    4. Noise (:func:`noise_model`) from the differences of consecutive samples (a single
+       frame: its residual against the free surface, which also counts fine texture and
+       so errs on the safe side).
+
+    Parameters
+    ----------
+    samples : list of (M, N) ndarray
+        Frames spread through the video.
+    contact_is : {"dark", "bright"}
+    percentile : float
+        Per-pixel percentile of a fixed camera's free surface.
+    camera : {"auto", "fixed", "follows"}
+    lit : LitZone, optional
+        The lit zone (e.g. from a user's mask file).
+    image : (M, N) ndarray, optional
+        A free-surface image given by the user: used as it is (mode ``"fixed"``).
+    min_darkness : float
+        Darkness that surely is contact (camera-mode test and slow-block test).
+    min_block_fraction : float
+        Share of the lit zone a moving region must cover to count as a passing block.
+
+    Returns
+    -------
+    TirReference
+    """
+    from tir_contact._percentile import pixelwise_percentile
+    from tir_contact.illumination import find_lit_zone, whole_frame
+
+    if camera not in ("auto", *CAMERA_MODES):
+        raise ValueError(f"camera must be 'auto', 'fixed' or 'follows', got {camera!r}")
+    if contact_is not in ("dark", "bright"):
+        raise ValueError(f"contact_is must be 'dark' or 'bright', got {contact_is!r}")
+    frames = [np.asarray(f) for f in samples]
+    q = percentile if contact_is == "dark" else 100.0 - percentile
+    if len(frames) >= 5:
+        bright = pixelwise_percentile(frames, q).astype(np.float32)
+    else:
+        bright = np.median(np.stack(frames).astype(np.float32), axis=0)
+    shape = bright.shape
+    if lit is None:
+        lit = find_lit_zone(bright) if contact_is == "dark" else whole_frame(shape)
+    mask = lit.mask
+    if image is not None:
+        free = np.asarray(image, np.float32)
+        mode, method, cand = "fixed", "file", np.zeros(shape, bool)
+    else:
+        mode = camera
+        if mode == "auto":
+            mode = ("fixed" if len(frames) >= 2 and _moving(frames, bright, mask, min_darkness,
+                                                             min_block_fraction)
+                    else "follows")
+        cand = np.zeros(shape, bool)
+        if mode == "fixed" and len(frames) >= 5:
+            free, method = bright, "percentile"
+            fs = free_surface(bright, mask, contact_is=contact_is, candidate_darkness=min_darkness)
+            if fs.candidates.sum() > min_block_fraction * max(1, mask.sum()):
+                free, cand = fs.image, fs.candidates
+                method = "percentile, the block it still holds replaced by a fitted surface"
+        else:
+            median = (np.median(np.stack(frames).astype(np.float32), axis=0)
+                      if len(frames) > 1 else frames[0].astype(np.float32))
+            fs = free_surface(median, mask, contact_is=contact_is)
+            free, cand = fs.image, fs.candidates
+            method = (f"fitted free surface ({len(frames)} frame(s); closing "
+                      f"{fs.size_px} px)")
+    away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
+    noise = noise_model(_residuals(frames, free), free, away)
+    ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))
+    return TirReference(ref, lit, mode, method, noise, cand)
+
+
+def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0) -> TirReference:
+    """`tref` with ``reference.valid`` cut to the lit pixels whose noise stays clear of the
+    threshold: ``n_sigma * sigma_D <= threshold`` (see :meth:`NoiseModel.sigma_darkness`).
+
+    Where the light is too weak (the soft rim, a dim corner) a noise peak would cross the
+    contact threshold; such pixels are not measured rather than counted as speckle.
+    """
+    sigma = tref.noise.sigma_darkness(tref.reference.image)
+    valid = tref.lit.mask & (n_sigma * sigma <= threshold)
+    ref = Reference(tref.reference.image, valid, tref.reference.method, tref.reference.n_frames)
+    return TirReference(ref, tref.lit, tref.camera, tref.method, tref.noise, tref.candidates)
