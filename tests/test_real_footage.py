@@ -129,6 +129,8 @@ def test_three_small_contacts_at_the_soft_rim(tmp_path):
     regions = pd.read_csv(tmp_path / "out" / "c2" / "regions.csv")
     assert regions["at_lit_rim"].all()  # each reaches into the rim band
     assert bool(res.frames["contact_at_lit_rim"].iloc[0])
+    assert any(w.startswith("contact touches the rim of the lit zone in 1 of 1 frames")
+               for w in res.summary["warnings"])
 
 
 @pytest.mark.parametrize("fraction", [0.7, 0.25])

@@ -879,6 +879,12 @@ def footage_warnings(setup: _Setup, frames: pd.DataFrame, lost: list[int]) -> li
         what = "contact" if setup.view == "tir" else "block"
         out.append(f"no {what} found in any of the {len(frames)} frames analysed "
                    f"(reference: {setup.reference_method})")
+    if "contact_at_lit_rim" in frames and len(frames):
+        at_rim = int(frames["contact_at_lit_rim"].astype(bool).sum())
+        if at_rim:
+            out.append(f"contact touches the rim of the lit zone in {at_rim} of {len(frames)} "
+                       "frames: part of it may lie where too little light reaches to see it "
+                       "(lit_mask.png; --lit-mask to give the zone)")
     numbers = setup.numbers
     jumps = np.flatnonzero(np.diff(numbers) > 1)
     if len(jumps):
@@ -1008,8 +1014,14 @@ def _draw(setup: _Setup, k: int, frame: np.ndarray, row: dict, el: pd.DataFrame,
 
     label = f"frame {k}  t = {k / setup.fps * 1e3:.2f} ms"
     if setup.view == "tir":
+        lit, top = None, setup.max_dn
+        if setup.tir is not None:  # dim footage is stretched to its lit level
+            lit = setup.tir.lit.mask
+            bright = setup.tir.lit.bright_level
+            if math.isfinite(bright) and bright > 0:
+                top = min(top, 1.1 * bright)
         return draw_tir_overlay(frame, extra.mask, el, row, mm_per_px=setup.mm_per_px,
-                                max_dn=setup.max_dn, label=label)
+                                max_dn=top, label=label, lit=lit)
     lines = getattr(extra, "lines", {}) or {}
     return draw_side_overlay(frame, el, lines, ice_y_px=getattr(extra, "ice_y_px", None),
                              max_dn=setup.max_dn, label=label)

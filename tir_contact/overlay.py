@@ -1,9 +1,9 @@
 """Overlay images: the analysis drawn over the frame, to check the segmentation at a glance.
 
-TIR view: contact contours (green), element labels (element 0 leads), the front-edge
-pressure peak of each element as a band (magenta, its measured width) and the leading edge
-(yellow). Side view: each element's fitted centreline chord from root to ice (green) with its
-angle, the ice line (cyan).
+TIR view: the lit zone's outline (cyan), contact contours (green), element labels (element
+0 leads), the front-edge pressure peak of each element as a band (magenta, its measured
+width) and the leading edge (yellow). Side view: each element's fitted centreline chord from
+root to ice (green) with its angle, the ice line (cyan).
 """
 
 from __future__ import annotations
@@ -68,6 +68,7 @@ def draw_tir_overlay(
     mm_per_px: float,
     max_dn: float | None = None,
     label: str = "",
+    lit: np.ndarray | None = None,
 ) -> np.ndarray:
     """Draw a TIR frame's contact analysis over the frame.
 
@@ -88,6 +89,8 @@ def draw_tir_overlay(
         Full scale of the frame (see :func:`to_display`).
     label : str
         Text written in the top-left corner.
+    lit : (M, N) ndarray of bool, optional
+        The lit zone, outlined.
 
     Returns
     -------
@@ -98,7 +101,12 @@ def draw_tir_overlay(
 
     img, k = _scale_up(to_display(frame, max_dn))
     h = img.shape[0]
-    big = cv2.resize(mask.astype(np.uint8), (img.shape[1], h), interpolation=cv2.INTER_NEAREST)
+    size = (img.shape[1], h)
+    if lit is not None and not lit.all():
+        big = cv2.resize(lit.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST)
+        contours, _ = cv2.findContours(big, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        cv2.drawContours(img, contours, -1, _CYAN, 1)
+    big = cv2.resize(mask.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST)
     contours, _ = cv2.findContours(big, cv2.RETR_LIST, cv2.CHAIN_APPROX_SIMPLE)
     cv2.drawContours(img, contours, -1, _GREEN, 1)
     for row in elements.itertuples(index=False):

@@ -53,6 +53,13 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     g = p.add_argument_group("analysis")
     g.add_argument("--reference", type=Path, default=None, metavar="IMAGE",
                    help="free-surface image (no block); default: built from the footage")
+    g.add_argument("--lit-mask", type=Path, default=None, metavar="IMAGE",
+                   help="image of the frame's size, non-zero where TIR light reaches "
+                        "(default: found from the footage; lit_mask.png shows it)")
+    g.add_argument("--camera", choices=("auto", "fixed", "follows"), default="auto",
+                   help="fixed: the block passes the camera; follows: the contact stays in "
+                        "view (camera following the block, static test, single image); "
+                        "default auto: detected")
     g.add_argument("--contrast", type=positive_number, default=None,
                    help="contact darkness; threshold = half of it (default: estimated)")
     g.add_argument("--min-area-px", type=positive_int, default=4,
@@ -90,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         options = AnalysisOptions(
             reference=str(args.reference) if args.reference else None,
+            lit_mask=str(args.lit_mask) if args.lit_mask else None,
+            camera=args.camera,
             contrast=args.contrast,
             min_area_px=args.min_area_px,
             overlay_frames=max(0, args.overlay_frames),
