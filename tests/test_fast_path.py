@@ -15,7 +15,7 @@ import pandas as pd
 import pytest
 from skimage.measure import label
 
-import tir_contact.analyze as analyze_module
+import tir_contact.frame as frame_module
 from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._percentile import pixelwise_percentile
@@ -117,7 +117,7 @@ def test_fast_path_gives_the_plain_paths_tables(clip, monkeypatch, regions):
     options = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0,
                               regions=regions)
     fast = analyze_video(clip, options=options)
-    monkeypatch.setattr(analyze_module._FrameAnalyser, "_raw_test", lambda self, frame: None)
+    monkeypatch.setattr(frame_module.FrameAnalyser, "_raw_test", lambda self, frame: None)
     plain = analyze_video(clip, options=options)
     assert fast.frames["block_in_view"].any()
     pd.testing.assert_frame_equal(fast.frames, plain.frames)

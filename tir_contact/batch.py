@@ -28,16 +28,10 @@ import pandas as pd
 from tir_contact import _workers
 from tir_contact._outdir import remove_stale_temporaries
 from tir_contact._readers import FootageError
-from tir_contact.analyze import (
-    _RESULT_VERSION,
-    RESULT_FILES,
-    AnalysisOptions,
-    _images_in,
-    analyze_video,
-    footage_fingerprint,
-    resolve_footage,
-)
+from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage
+from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
+from tir_contact.prepare import _images_in, footage_fingerprint, resolve_footage
 
 logger = logging.getLogger(__name__)
 

@@ -1,0 +1,95 @@
+"""Settings of the footage analysis (:class:`AnalysisOptions`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["AnalysisOptions"]
+
+
+@dataclass(frozen=True)
+class AnalysisOptions:
+    """Settings of the analysis (all have defaults that suit the synthetic footage).
+
+    Parameters
+    ----------
+    reference : str or Path, optional
+        Image file of the free surface (no block); built from the footage when omitted.
+    reference_frames : int
+        Frames sampled for the reference and the contrast (spread through the video).
+    percentile : float
+        Per-pixel percentile of the sampled frames taken as the free surface.
+    contrast : float, optional
+        Contact darkness; the threshold is half of it. Estimated from the sampled frames
+        (median darkness of clearly dark pixels) when omitted.
+    min_darkness : float
+        Darkness above which a pixel is surely contact (see
+        :func:`tir_contact.segment.estimate_contrast`).
+    min_area_px : int
+        Smaller contact regions are dropped (noise, dust).
+    min_block_fraction : float
+        A region that moves through the sampled frames over more than this fraction of the
+        lit zone means the block passes a fixed camera (camera mode detection).
+    lit_mask : str or Path, optional
+        Image file, non-zero where TIR light reaches (the frame's size); found from the
+        footage when omitted (:func:`tir_contact.illumination.find_lit_zone`).
+    camera : {"auto", "fixed", "follows"}
+        ``"fixed"``: the block passes a fixed camera (frames without it give the free
+        surface); ``"follows"``: the contact stays in view (camera following the block,
+        static test, single image); ``"auto"`` detects it.
+    noise_sigmas : float
+        Lit pixels whose darkness noise times this reaches the contact threshold are not
+        measured (5: a noise peak crosses the threshold in fewer than 1 of 10^6 pixels).
+    static_min_darkness : float
+        Lowest contact threshold when nothing moves (``camera="follows"``): ice texture
+        (bubbles, scratches, dust) removes at most about a third of the light and cannot
+        be told from contact by motion there.
+    overlay_frames : int
+        Overlay images written (first, middle and last frames with the block, the frame of
+        largest contact, ...).
+    overlay_video : bool
+        Write ``overlay.avi`` (every k-th frame, at most ``overlay_video_max_frames``). Off
+        by default: drawing and encoding the frames costs about as much as the analysis.
+    overlay_video_max_frames : int
+        Frame budget of the overlay video.
+    regions : {"auto", "always", "never"}
+        Write ``regions.csv`` (every contact region: area, centroid, bounding box).
+        ``"auto"``: only when no block geometry is known (then it is the main result).
+    plots : bool
+        Write the PNG plots of the results over time (:mod:`tir_contact.plots`). Off by
+        default: matplotlib costs about 0.1 s a video, and 1 s in each new process.
+    parquet : bool
+        Also write Parquet copies of the tables when pyarrow is installed.
+    """
+
+    reference: str | None = None
+    reference_frames: int = 32
+    percentile: float = 90.0
+    contrast: float | None = None
+    min_darkness: float = 0.25
+    min_area_px: int = 4
+    min_block_fraction: float = 0.02
+    lit_mask: str | None = None
+    camera: str = "auto"
+    noise_sigmas: float = 5.0
+    static_min_darkness: float = 0.4
+    overlay_frames: int = 4
+    overlay_video: bool = False
+    overlay_video_max_frames: int = 400
+    regions: str = "auto"
+    plots: bool = False
+    parquet: bool = True
+
+    def __post_init__(self) -> None:
+        if self.reference_frames < 1:
+            raise ValueError(f"reference_frames must be >= 1, got {self.reference_frames!r}")
+        if self.contrast is not None and not 0.0 < self.contrast <= 2.0:
+            raise ValueError(f"contrast must lie in (0, 2], got {self.contrast!r}")
+        if self.min_area_px < 1:
+            raise ValueError(f"min_area_px must be >= 1, got {self.min_area_px!r}")
+        if self.regions not in ("auto", "always", "never"):
+            raise ValueError(f"regions must be 'auto', 'always' or 'never', got {self.regions!r}")
+        if self.camera not in ("auto", "fixed", "follows"):
+            raise ValueError(f"camera must be 'auto', 'fixed' or 'follows', got {self.camera!r}")
+        if not self.noise_sigmas > 0:
+            raise ValueError(f"noise_sigmas must be > 0, got {self.noise_sigmas!r}")

@@ -1,0 +1,508 @@
+"""After the last frame: the result tables, ``summary.json``, overlays and writing them.
+
+The tables are collected frame by frame (:class:`Tables`), built once at the end, and written
+with the summary, overlay images and optional plots, Parquet copies and overlay video into a
+staging folder that is moved into place when complete (:func:`write_results`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import cv2
+import numpy as np
+import pandas as pd
+
+from tir_contact._outdir import replace_folder, staging_folder, temporary_name, write_json
+from tir_contact._readers import FootageError
+from tir_contact.features import _element_records
+from tir_contact.options import AnalysisOptions
+from tir_contact.prepare import VideoSetup, footage_fingerprint
+
+__all__ = [
+    "ELEMENT_COLUMNS",
+    "FRAME_COLUMNS",
+    "REGION_COLUMNS",
+    "RESULT_FILES",
+    "Tables",
+    "VideoAnalysis",
+    "footage_warnings",
+    "write_results",
+]
+
+#: Columns of ``frames.csv``, in order (the first nine are those of the issue, then extras).
+FRAME_COLUMNS = [
+    "frame",
+    "time_s",
+    "block_in_view",
+    "block_front_x_mm",
+    "contact_area_mm2",
+    "contact_ratio",
+    "n_elements_in_contact",
+    "front_peak_x_mm",
+    "front_peak_contrast",
+    "block_fully_in_view",
+    "n_regions",
+    "deflection_angle_deg",
+    "tip_deflection_mm",
+    "contact_at_lit_rim",
+]
+
+#: Columns of ``elements.csv``, in order (element 0 leads).
+ELEMENT_COLUMNS = [
+    "frame",
+    "time_s",
+    "element",
+    "contact_area_mm2",
+    "contact_length_mm",
+    "front_edge_x_mm",
+    "front_peak_x_mm",
+    "front_peak_contrast",
+    "liftoff_mm",
+    "deflection_angle_deg",
+    "front_peak_width_mm",
+    "tip_deflection_mm",
+]
+
+#: Columns of ``regions.csv`` (every contact region, no geometry needed).
+REGION_COLUMNS = [
+    "frame",
+    "time_s",
+    "region",
+    "area_mm2",
+    "centroid_x_mm",
+    "centroid_y_mm",
+    "bbox_x0_mm",
+    "bbox_y0_mm",
+    "bbox_width_mm",
+    "bbox_height_mm",
+    "mean_darkness",
+    "at_lit_rim",
+]
+
+#: Files that make a result complete (``--resume`` checks them).
+RESULT_FILES = ("frames.csv", "elements.csv", "summary.json")
+
+_RESULT_VERSION = 1
+
+
+@dataclass
+class VideoAnalysis:
+    """Result of :func:`analyze_video`.
+
+    Attributes
+    ----------
+    frames : pandas.DataFrame
+        One row per analysed frame (:data:`FRAME_COLUMNS`).
+    elements : pandas.DataFrame
+        One row per frame and element in contact or in view (:data:`ELEMENT_COLUMNS`).
+    regions : pandas.DataFrame or None
+        One row per frame and contact region (TIR view; :data:`REGION_COLUMNS`); None when
+        not computed (see :attr:`AnalysisOptions.regions`).
+    summary : dict
+        What ``summary.json`` holds: steady values, reference, skipped frames, settings.
+    out_dir : Path or None
+        Where the results were written.
+    """
+
+    frames: pd.DataFrame
+    elements: pd.DataFrame
+    regions: pd.DataFrame | None
+    summary: dict[str, Any]
+    out_dir: Path | None = None
+    skipped: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        """True when every frame was analysed."""
+        return not self.skipped
+
+
+def _reorder(df: pd.DataFrame, columns: list[str]) -> pd.DataFrame:
+    """`columns` first (NaN where missing), then any further columns (`df` itself when it
+    holds exactly `columns`, in order)."""
+    if list(df.columns) == columns:
+        return df
+    for c in columns:
+        if c not in df.columns:
+            df[c] = np.nan
+    return df[columns + [c for c in df.columns if c not in columns]]
+
+
+def _concat(parts: list[pd.DataFrame], columns: list[str]) -> pd.DataFrame:
+    parts = [p for p in parts if len(p)]
+    return _reorder(pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(), columns)
+
+
+class Tables:
+    """Collects the :class:`~tir_contact.frame.FrameResult` of each frame of one video and
+    builds its tables once at the end."""
+
+    def __init__(self, setup: VideoSetup, want_regions: bool) -> None:
+        self.setup = setup
+        self.want_regions = want_regions
+        self.rows: list[dict] = []
+        self._el_rows: list[tuple] = []  # TIR element tuples of every frame
+        self._el_frames: list[int] = []
+        self._el_tables: list[pd.DataFrame] = []  # side-view element tables
+        self._regions: list[dict] = []
+
+    def add(self, result: Any) -> None:
+        """Add one frame's result."""
+        self.rows.append(result.row)
+        el = result.elements
+        if isinstance(el, pd.DataFrame):
+            self._el_tables.append(el)
+        elif el:
+            self._el_rows += el
+            self._el_frames += [result.row["frame"]] * len(el)
+        if result.regions is not None:
+            self._regions.append(result.regions)
+
+    def frames(self) -> pd.DataFrame:
+        """``frames.csv``: one row per frame (:data:`FRAME_COLUMNS` first)."""
+        if self.setup.view == "tir" and self.rows:  # rows hold exactly FRAME_COLUMNS
+            return pd.DataFrame({c: [r[c] for r in self.rows] for c in FRAME_COLUMNS})
+        return _reorder(pd.DataFrame(self.rows), FRAME_COLUMNS)
+
+    def elements(self) -> pd.DataFrame:
+        """``elements.csv``: one row per frame and element (:data:`ELEMENT_COLUMNS` first)."""
+        if self.setup.view == "tir":
+            return _records_table(self._el_rows, self._el_frames, self.setup.fps)
+        return _concat(self._el_tables, ELEMENT_COLUMNS)
+
+    def regions(self) -> pd.DataFrame | None:
+        """``regions.csv`` (:data:`REGION_COLUMNS`), None when regions are not wanted."""
+        return _regions_table(self._regions, self.setup) if self.want_regions else None
+
+
+def _records_table(rows: list[tuple], frames: list[int], fps: float) -> pd.DataFrame:
+    """The elements table from the element tuples of every frame, built once."""
+    if not rows:
+        return pd.DataFrame(columns=ELEMENT_COLUMNS)
+    rec = _element_records(rows)
+    frame = np.array(frames, dtype=np.int64)
+    data = {"frame": frame, "time_s": frame / fps}
+    data.update({name: rec[name] for name in rec.dtype.names})
+    return _reorder(pd.DataFrame(data), ELEMENT_COLUMNS)
+
+
+def _regions_table(regions: list[dict], setup: VideoSetup) -> pd.DataFrame:
+    """``regions.csv`` in mm from the per-frame region arrays."""
+    if not regions:
+        return pd.DataFrame(columns=REGION_COLUMNS)
+    cat = {key: np.concatenate([r[key] for r in regions]) for key in regions[0]}
+    mm, mm2 = setup.mm_per_px, setup.mm_per_px ** 2
+    return pd.DataFrame({
+        "frame": cat["frame"], "time_s": cat["frame"] / setup.fps, "region": cat["label"],
+        "area_mm2": cat["area_px"] * mm2,
+        "centroid_x_mm": (cat["centroid_x_px"] + 0.5) * mm,
+        "centroid_y_mm": (cat["centroid_y_px"] + 0.5) * mm,
+        "bbox_x0_mm": cat["bbox_x0_px"] * mm, "bbox_y0_mm": cat["bbox_y0_px"] * mm,
+        "bbox_width_mm": cat["bbox_width_px"] * mm, "bbox_height_mm": cat["bbox_height_px"] * mm,
+        "mean_darkness": cat["mean_darkness"],
+        "at_lit_rim": cat["at_lit_rim"].astype(bool),
+    }, columns=REGION_COLUMNS)
+
+
+def _steady(frames: pd.DataFrame, elements: pd.DataFrame) -> dict[str, Any]:
+    """Means and standard deviations over the frames with the whole block in view.
+
+    Each mean and standard deviation is pandas' own (``Series.mean``, ``Series.std``) of
+    the selected values, without building the selected tables and groups.
+    """
+    full = frames["block_fully_in_view"].to_numpy().astype(bool)
+    out: dict[str, Any] = {"n_frames": int(full.sum())}
+    for col in ("contact_area_mm2", "contact_ratio", "front_peak_contrast",
+                "deflection_angle_deg", "tip_deflection_mm"):
+        if col not in frames:
+            continue
+        values = pd.Series(frames[col].to_numpy()[full])
+        finite = int(values.notna().sum())
+        if finite:
+            out[col] = {"mean": float(values.mean()),
+                        "std": float(values.std(ddof=1)) if finite > 1 else 0.0}
+    if out["n_frames"] and len(elements):
+        frame_no = elements["frame"].to_numpy()
+        sel = np.isin(frame_no, frames["frame"].to_numpy()[full])
+        element = elements["element"].to_numpy()
+        columns = [c for c in ("contact_area_mm2", "contact_length_mm", "front_peak_contrast",
+                               "liftoff_mm", "deflection_angle_deg", "tip_deflection_mm",
+                               "front_peak_width_mm") if c in elements]
+        arrays = {c: elements[c].to_numpy() for c in columns}
+        per = {}
+        for e in np.unique(element[sel]):  # ascending, as groupby
+            rows = sel & (element == e)
+            means = {}
+            for col in columns:
+                values = pd.Series(arrays[col][rows])
+                if values.notna().any():
+                    means[col] = float(values.mean())
+            per[str(int(e))] = means
+        out["elements"] = per
+    return out
+
+
+def _overlay_choice(frames: pd.DataFrame, n: int) -> list[int]:
+    inview = frames[frames["block_in_view"].astype(bool)]
+    if inview.empty or n <= 0:
+        return [int(frames["frame"].iloc[len(frames) // 2])] if n > 0 and len(frames) else []
+    picks = [int(inview["frame"].iloc[0]), int(inview["frame"].iloc[len(inview) // 2]),
+             int(inview["frame"].iloc[-1])]
+    if inview["contact_area_mm2"].notna().any():
+        picks.append(int(inview.loc[inview["contact_area_mm2"].idxmax(), "frame"]))
+    extra = np.linspace(0, len(inview) - 1, n + 2).round().astype(int)[1:-1]
+    picks += [int(inview["frame"].iloc[i]) for i in extra]
+    seen: list[int] = []
+    for p in picks:
+        if p not in seen:
+            seen.append(p)
+    return sorted(seen[:n])
+
+
+#: Below this fraction of full scale, the brightest 1 % of pixels are not a lit field.
+DARK_FOOTAGE_FRACTION = 0.03
+#: Above this fraction of full scale, the darkest 1 % of pixels are saturated.
+SATURATED_FRACTION = 0.98
+
+
+def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -> list[str]:
+    """What the user must know about a video whose numbers may mean nothing.
+
+    Footage without a lit field (black), saturated footage (white), a video in which no
+    frame shows contact or the block, gaps in the recorded frame numbers, and frames lost
+    from a container that was cut short.
+    """
+    out = []
+    low, high = setup.grey_range
+    if high <= DARK_FOOTAGE_FRACTION * setup.max_dn:
+        out.append(f"no lit field: the brightest 1 % of pixels reach grey {high:.0f} of "
+                   f"{setup.max_dn:.0f} (black footage?)")
+    elif low >= SATURATED_FRACTION * setup.max_dn:
+        out.append(f"saturated footage: even the darkest 1 % of pixels reach grey {low:.0f} "
+                   f"of {setup.max_dn:.0f}")
+    in_view = frames["block_in_view"].astype(bool)
+    if len(frames) and not in_view.any():
+        what = "contact" if setup.view == "tir" else "block"
+        out.append(f"no {what} found in any of the {len(frames)} frames analysed "
+                   f"(reference: {setup.reference_method})")
+    if "contact_at_lit_rim" in frames and len(frames):
+        at_rim = int(frames["contact_at_lit_rim"].astype(bool).sum())
+        if at_rim:
+            out.append(f"contact touches the rim of the lit zone in {at_rim} of {len(frames)} "
+                       "frames: part of it may lie where too little light reaches to see it "
+                       "(lit_mask.png; --lit-mask to give the zone)")
+    numbers = setup.numbers
+    jumps = np.flatnonzero(np.diff(numbers) > 1)
+    if len(jumps):
+        missing = int(sum(numbers[j + 1] - numbers[j] - 1 for j in jumps))
+        first = int(jumps[0])
+        out.append(f"{missing} frame number(s) missing from the footage in {len(jumps)} "
+                   f"gap(s), the first from frame {numbers[first]} to {numbers[first + 1]}; "
+                   "times follow the frame numbers")
+    if lost:
+        out.append(f"the container was cut short: {len(lost)} frame(s) lost "
+                   f"({lost[0]}-{lost[-1]})")
+    return out
+
+
+def _gaps(numbers: np.ndarray) -> list[dict[str, int]]:
+    jumps = np.flatnonzero(np.diff(numbers) > 1)
+    return [{"after": int(numbers[j]), "before": int(numbers[j + 1]),
+             "missing": int(numbers[j + 1] - numbers[j] - 1)} for j in jumps]
+
+
+def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
+             frames: pd.DataFrame, elements: pd.DataFrame, skipped: list[dict[str, Any]],
+             elapsed: float, lost: list[int]) -> dict[str, Any]:
+    from tir_contact import __version__
+
+    ref = setup.reference
+    in_view = frames["block_in_view"].astype(bool)
+    return {
+        "result_version": _RESULT_VERSION,
+        "complete": True,
+        "video": str(path),
+        "name": name,
+        "view": setup.view,
+        "n_frames": setup.n_frames,
+        "n_frames_analysed": len(frames),
+        "frames_without_block": int((~in_view).sum()),
+        "frames_with_whole_block": int(frames["block_fully_in_view"].astype(bool).sum()),
+        "skipped_frames": skipped,
+        "lost_frames": lost,
+        "frame_gaps": _gaps(setup.numbers),
+        "warnings": footage_warnings(setup, frames, lost),
+        "steady": _steady(frames, elements),
+        "reference": {
+            "method": setup.reference_method,
+            "n_frames": ref.n_frames if ref is not None else 1,
+            "excluded_fraction": ref.excluded_fraction if ref is not None else None,
+        },
+        "camera": setup.camera,
+        **_tir_assumptions(setup),
+        "contrast": setup.contrast,
+        "threshold": _finite_or_none(setup.threshold),
+        "meta": setup.meta,
+        "options": asdict(options),
+        "fingerprint": footage_fingerprint(path),
+        "frames_per_s": len(frames) / elapsed if elapsed > 0 else None,
+        "package_version": __version__,
+    }
+
+
+def _tir_assumptions(setup: VideoSetup) -> dict[str, Any]:
+    """What the TIR analysis assumed about the light and the noise (``summary.json``)."""
+    t = setup.tir
+    if t is None:
+        return {}
+    lit = t.lit.mask
+    sigma = t.noise.sigma_darkness(t.reference.image)
+    measured = t.reference.valid
+    return {
+        "lit_fraction": float(lit.mean()),
+        "lit_zone": {
+            "method": t.lit.method,
+            "fraction": float(lit.mean()),
+            "bright_level": _finite_or_none(t.lit.bright_level),
+            "black_level": _finite_or_none(t.lit.black_level),
+            "measured_fraction": float(measured.mean()),
+            "too_noisy_fraction": float((lit & ~measured).mean()),
+        },
+        "noise": {
+            "grey_variance_a_dn2": t.noise.a,
+            "grey_variance_b_dn": t.noise.b,
+            "darkness_sigma_median": _finite_or_none(float(np.median(sigma[measured]))
+                                                     if measured.any() else math.nan),
+        },
+    }
+
+
+def _finite_or_none(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+class _OverlayVideo:
+    """Streams every k-th overlay frame into ``overlay.avi`` in a staging file."""
+
+    def __init__(self, setup: VideoSetup, options: AnalysisOptions, folder: Path) -> None:
+        self.setup = setup
+        self.step = max(1, math.ceil(setup.n_frames / options.overlay_video_max_frames))
+        folder.mkdir(parents=True, exist_ok=True)
+        self.path = folder / temporary_name("overlay", ".avi")
+        self.writer = None
+
+    def add(self, i: int, frame: np.ndarray, result: Any) -> None:
+        """Add frame index `i` with its :class:`~tir_contact.frame.FrameResult` when it is on
+        the video's step."""
+        if i % self.step:
+            return
+        img = _draw(self.setup, frame, result)
+        if self.writer is None:
+            fourcc = cv2.VideoWriter_fourcc(*"MJPG")
+            fps = min(25.0, self.setup.fps)
+            self.writer = cv2.VideoWriter(str(self.path), fourcc, fps,
+                                          (img.shape[1], img.shape[0]))
+        self.writer.write(img)
+
+    def close(self) -> None:
+        if self.writer is not None:
+            self.writer.release()
+            self.writer = None
+
+
+def _draw(setup: VideoSetup, frame: np.ndarray, result: Any) -> np.ndarray:
+    """The overlay image of a frame and its :class:`~tir_contact.frame.FrameResult`."""
+    from tir_contact.overlay import draw_side_overlay, draw_tir_overlay
+
+    k = result.row["frame"]
+    label = f"frame {k}  t = {k / setup.fps * 1e3:.2f} ms"
+    el = result.element_table()
+    if setup.view == "tir":
+        lit, top = None, setup.max_dn
+        if setup.tir is not None:  # dim footage is stretched to its lit level
+            lit = setup.tir.lit.mask
+            bright = setup.tir.lit.bright_level
+            if math.isfinite(bright) and bright > 0:
+                top = min(top, 1.1 * bright)
+        return draw_tir_overlay(frame, result.detail.mask, el, result.row,
+                                mm_per_px=setup.mm_per_px, max_dn=top, label=label, lit=lit)
+    lines = getattr(result.detail, "lines", {}) or {}
+    return draw_side_overlay(frame, el, lines, ice_y_px=getattr(result.detail, "ice_y_px", None),
+                             max_dn=setup.max_dn, label=label)
+
+
+def write_results(result: VideoAnalysis, final: Path, reader: Any, analyser: Any,
+                  options: AnalysisOptions, video: _OverlayVideo | None = None) -> Path:
+    """Write a video's results into the folder `final` (atomically: staged, then moved).
+
+    Parameters
+    ----------
+    result : VideoAnalysis
+    final : Path
+        The result folder.
+    reader : footage reader
+        To read the frames of the overlay images again.
+    analyser : FrameAnalyser
+        To analyse those frames again for drawing.
+    options : AnalysisOptions
+    video : _OverlayVideo, optional
+        The streamed overlay video, moved into the folder.
+
+    Returns
+    -------
+    Path
+        The result folder.
+    """
+    from tir_contact.plots import plot_video_results  # matplotlib: only when plots are wanted
+
+    setup = analyser.setup
+    stage = staging_folder(final)
+    try:
+        tables = {"frames": result.frames, "elements": result.elements}
+        if result.regions is not None:
+            tables["regions"] = result.regions
+        for stem, df in tables.items():
+            df.to_csv(stage / f"{stem}.csv", index=False, lineterminator="\n",
+                      float_format="%.6g")
+        if options.parquet and _has_pyarrow():
+            for stem, df in tables.items():
+                df.to_parquet(stage / f"{stem}.parquet", index=False)
+        if options.plots:
+            plot_video_results(result.frames, result.elements, stage, view=setup.view,
+                               title=result.summary["name"])
+        if options.overlay_frames > 0:
+            (stage / "overlays").mkdir()
+            index_of = {int(n): i for i, n in enumerate(setup.numbers)}
+            for k in _overlay_choice(result.frames, options.overlay_frames):
+                try:
+                    frame = reader.get_frame(index_of[k])
+                except FootageError:
+                    continue
+                cv2.imwrite(str(stage / "overlays" / f"frame_{k:06d}.png"),
+                            _draw(setup, frame, analyser(k, frame)))
+        if video is not None and video.path.exists() and video.path.stat().st_size > 0:
+            os.replace(video.path, stage / "overlay.avi")
+        if setup.tir is not None:  # the lit zone, white where TIR light reaches
+            cv2.imwrite(str(stage / "lit_mask.png"), setup.tir.lit.mask.astype(np.uint8) * 255)
+        write_json(stage / "summary.json", result.summary)
+        return replace_folder(stage, final)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    finally:
+        if video is not None:
+            video.path.unlink(missing_ok=True)
+
+
+def _has_pyarrow() -> bool:
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        return False
+    return True

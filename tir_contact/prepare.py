@@ -1,0 +1,314 @@
+"""Before the first frame: footage, metadata, reference and threshold of one video.
+
+:func:`prepare_video` reads the metadata and a sample of frames spread through the video
+and returns a :class:`VideoSetup`, everything the per-frame step
+(:mod:`tir_contact.frame`) needs. :func:`resolve_footage` says what a user's path means.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import cv2
+import numpy as np
+
+from tir_contact._darkness import Normaliser
+from tir_contact._readers import IMAGE_SUFFIXES, FootageError
+from tir_contact.calibrate import Reference, reference_from_frames
+from tir_contact.features import BlockLayout
+from tir_contact.illumination import lit_zone_from_file
+from tir_contact.meta import META_FILENAME, clip_footage, read_meta_json
+from tir_contact.options import AnalysisOptions
+from tir_contact.reference import TirReference, measurable, tir_reference
+from tir_contact.segment import estimate_contrast
+
+__all__ = [
+    "VideoSetup",
+    "footage_fingerprint",
+    "output_name",
+    "prepare_video",
+    "resolve_footage",
+]
+
+
+def output_name(path: str | os.PathLike[str]) -> str:
+    """Name of a video's result folder: the folder name or the file name without suffix.
+
+    Examples
+    --------
+    >>> output_name("runs/G3_1mps/footage.avi"), output_name("runs/G3_1mps/frames")
+    ('footage', 'frames')
+    """
+    p = Path(path)
+    return p.name if p.is_dir() or not p.suffix else p.stem
+
+
+def _images_in(folder: Path) -> int:
+    try:
+        return sum(1 for q in folder.iterdir()
+                   if q.is_file() and not q.name.startswith(".")
+                   and q.suffix.lower() in IMAGE_SUFFIXES)
+    except OSError:
+        return 0
+
+
+def resolve_footage(path: str | os.PathLike[str], *, strict: bool = False) -> tuple[Path, str]:
+    """The footage a path means, and its result name.
+
+    A synthetic clip folder (``meta.json`` naming ``frames/...`` or a video file that
+    exists) means its frames folder or video, named after the clip folder; this holds for
+    a multi-page TIFF in the clip folder too.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        What the user named.
+    strict : bool
+        Raise the ``meta.json`` error of a folder that holds no images and whose
+        ``meta.json`` cannot be read (instead of reading the folder as frames, which then
+        reports "no image files").
+
+    Returns
+    -------
+    (Path, str)
+        What the reader opens, and the result folder name.
+    """
+    p = Path(path)
+    if p.is_dir():
+        inner = clip_footage(p)
+        if inner is not None and (inner.exists() or _images_in(p) == 0):
+            return inner, p.name
+        if strict and inner is None and (p / META_FILENAME).is_file() and _images_in(p) == 0:
+            read_meta_json(p / META_FILENAME)  # raises the JSON error, naming the file
+    return p, output_name(p)
+
+
+def footage_fingerprint(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """Sizes and modification times of the footage and its metadata (for ``--resume``)."""
+    from tir_contact.meta import find_meta
+
+    p = Path(path)
+    files = sorted(q for q in p.iterdir() if q.is_file()) if p.is_dir() else [p]
+    meta = find_meta(p)
+    if meta is not None and meta not in files:
+        files.append(meta)
+    return {
+        "files": len(files),
+        "bytes": int(sum(q.stat().st_size for q in files)),
+        "mtime_ns": int(max((q.stat().st_mtime_ns for q in files), default=0)),
+    }
+
+
+def _read_reference_file(path: str, shape: tuple[int, int], min_relative: float = 0.2) -> Reference:
+
+    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if image is None:
+        raise FootageError(f"{path}: cannot read the reference image", path)
+    if image.ndim == 3:
+        image = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    if image.shape != shape:
+        raise FootageError(
+            f"{path}: reference size {image.shape[1]}x{image.shape[0]} differs from the "
+            f"footage's {shape[1]}x{shape[0]}",
+            path,
+        )
+    image = image.astype(float)
+    valid = image > min_relative * float(np.median(image))
+    return Reference(image, valid, "file", 1)
+
+
+def _frames_differ(samples: list[np.ndarray], reference: Reference, contact_is: str,
+                   options: AnalysisOptions) -> bool:
+    """True when some sampled frame has a block-sized region darker than the reference."""
+    norm = Normaliser(reference, contact_is)
+    need = options.min_block_fraction * reference.image.size
+    return any(int((norm(f) > options.min_darkness).sum()) > need for f in samples)
+
+
+@dataclass
+class VideoSetup:
+    """What is fixed for all frames of one video (:func:`prepare_video`).
+
+    Attributes
+    ----------
+    meta : dict
+        The metadata used.
+    view, contact_is : str
+    fps, mm_per_px : float
+    layout : BlockLayout
+    reference : Reference or None
+        Free surface (TIR) or background (side view; None: each frame's own).
+    reference_method : str
+    contrast : float or None
+    n_frames : int
+    shape : (int, int)
+    max_dn : float
+    skipped : list of dict
+        Sampled frames that could not be read.
+    numbers : ndarray of int
+        Recorded frame number of each frame.
+    bad : set of int
+        Indices of frames that could not be read.
+    grey_range : (float, float)
+        1st and 99th percentile of the sampled pixels.
+    camera : {"fixed", "follows"}
+    tir : TirReference or None
+        Lit zone, free surface and noise of a TIR video.
+    threshold : float
+        Darkness threshold of contact (TIR; NaN for the side view).
+    """
+    meta: dict[str, Any]
+    view: str
+    contact_is: str
+    fps: float
+    mm_per_px: float
+    layout: Any
+    reference: Reference | None
+    reference_method: str
+    contrast: float | None
+    n_frames: int
+    shape: tuple[int, int]
+    max_dn: float
+    skipped: list[dict[str, Any]]
+    numbers: np.ndarray  # recorded frame number of each readable frame (reader.frame_numbers)
+    bad: set[int] = field(default_factory=set)  # indices of frames that could not be read
+    grey_range: tuple[float, float] = (0.0, 0.0)  # 1st and 99th percentile of sampled pixels
+    camera: str = "fixed"  # "fixed": the block passes the camera; "follows": it stays in view
+    tir: TirReference | None = None  # lit zone, free surface and noise of a TIR video
+    threshold: float = math.nan  # darkness threshold of contact (TIR)
+
+
+def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
+                   bad: set[int], numbers: np.ndarray) -> list[np.ndarray]:
+    n = len(reader)
+    idx = np.unique(np.linspace(0, n - 1, min(n, n_sample)).round().astype(int))
+    frames = []
+    for i in idx:
+        try:
+            frames.append(reader.get_frame(int(i)))
+        except FootageError as exc:
+            skipped.append({"frame": int(numbers[i]), "reason": str(exc)})
+            bad.add(int(i))
+    return frames
+
+
+def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
+                  options: AnalysisOptions) -> VideoSetup:
+    """What the analysis of each frame needs, from the metadata and sampled frames.
+
+    Reads the metadata, samples ``options.reference_frames`` frames spread through the
+    video and finds (TIR) the lit zone, the camera mode, the free surface, the noise and
+    the contact threshold (:func:`tir_contact.reference.tir_reference`), or (side view) the
+    background reference.
+
+    Parameters
+    ----------
+    reader : footage reader
+        An open reader (:func:`tir_contact.io.open_footage`).
+    path : Path
+        The footage (for messages and the metadata).
+    overrides : mapping, optional
+        Metadata by dotted key, winning over ``meta.json``.
+    options : AnalysisOptions
+
+    Returns
+    -------
+    VideoSetup
+
+    Raises
+    ------
+    FootageError
+        No frames, no readable sampled frame, or bad metadata.
+    """
+    from tir_contact.meta import load_meta
+
+    meta = load_meta(path, overrides, frame_rate=reader.frame_rate)
+    n = len(reader)
+    if n == 0:
+        raise FootageError(f"{path}: the footage has no frames", path)
+    view, contact_is = meta["view"], meta["contact_is"]
+    skipped: list[dict[str, Any]] = []
+    bad: set[int] = set()
+    numbers = np.asarray(reader.frame_numbers, dtype=np.int64)
+    samples = _sample_frames(reader, options.reference_frames, skipped, bad, numbers)
+    if not samples:
+        raise FootageError(f"{path}: none of the sampled frames could be read "
+                           f"(first reason: {skipped[0]['reason']})", path)
+    shape = samples[0].shape
+    max_dn = float(meta.get("max_dn") or (2 ** reader.bit_depth - 1))
+    pixels = np.concatenate([f[::4, ::4].ravel() for f in samples])
+    grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
+    reference: Reference | None
+    tref: TirReference | None = None
+    if view == "tir":
+        tref = _tir_reference(samples, shape, contact_is, options)
+        reference, method = tref.reference, tref.method
+    elif options.reference is not None:
+        reference = _read_reference_file(options.reference, shape)
+        method = "file"
+    elif len(samples) >= 5 and options.camera != "follows":
+        reference = reference_from_frames(samples, contact_is=contact_is,
+                                          percentile=options.percentile)
+        method = "percentile"
+        if options.camera == "auto" and not _frames_differ(samples, reference, contact_is,
+                                                           options):
+            # no sampled frame differs from the percentile image: the block is in every frame
+            # (a camera following the block) or in none; the side view then normalises each
+            # frame by its own background (tir_contact.side.side_darkness)
+            reference, method = None, "per-frame background (no frame without the block)"
+    else:
+        reference, method = None, f"per-frame background ({len(samples)} frame(s) sampled)"
+    contrast = options.contrast
+    if contrast is None and view == "tir":
+        norm = Normaliser(reference, contact_is)
+        values = [estimate_contrast(norm(f), min_darkness=options.min_darkness) for f in samples]
+        finite = [v for v in values if np.isfinite(v)]
+        contrast = float(np.median(finite)) if finite else None
+    threshold = math.nan
+    if tref is not None:  # pixels too noisy for the threshold are not measured
+        threshold = _threshold(contrast, options, tref.camera)
+        tref = measurable(tref, threshold, n_sigma=options.noise_sigmas)
+        reference = tref.reference
+    layout = BlockLayout.from_meta(meta)
+    camera = tref.camera if tref is not None else (
+        "fixed" if reference is not None else "follows")
+    return VideoSetup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
+                  reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
+                  grey_range, camera, tref, threshold)
+
+
+def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:
+    """The darkness threshold of contact: half the contrast, at least half ``min_darkness``.
+
+    When nothing moves (``camera="follows"``) the free surface under a static dark spot is
+    estimated, so ice texture (bubbles, scratches, dust: they remove at most about a third
+    of the light, where contact removes most of it) would count as contact; the threshold
+    is then at least ``static_min_darkness``.
+    """
+    floor = 0.5 * options.min_darkness
+    if camera == "follows":
+        floor = max(floor, options.static_min_darkness)
+    if contrast is None or not math.isfinite(contrast):
+        return floor
+    return max(0.5 * contrast, floor)
+
+
+def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
+                   options: AnalysisOptions) -> TirReference:
+    """Lit zone, camera mode, free surface and noise (:func:`tir_contact.reference.tir_reference`)
+    with the user's lit mask and reference image, when given."""
+    lit = lit_zone_from_file(options.lit_mask, shape) if options.lit_mask else None
+    image = (_read_reference_file(options.reference, shape).image
+             if options.reference is not None else None)
+    try:
+        return tir_reference(samples, contact_is=contact_is, percentile=options.percentile,
+                             camera=options.camera, lit=lit, image=image,
+                             min_darkness=options.min_darkness,
+                             min_block_fraction=options.min_block_fraction)
+    except ValueError as exc:
+        raise FootageError(str(exc), options.lit_mask) from exc
