@@ -110,6 +110,12 @@ class PatchTexture:
         self.origin = origin_mm
         self.spacing = spacing_mm
 
+    def grid(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """U on the grid of 1-D ``a`` (columns) and ``b`` (rows): shape (b.size, a.size)."""
+        ia = np.clip(np.rint((a - self.origin[0]) / self.spacing), 0, self.values.shape[0] - 1)
+        ib = np.clip(np.rint((b - self.origin[1]) / self.spacing), 0, self.values.shape[1] - 1)
+        return self.values[ia.astype(np.intp)][:, ib.astype(np.intp)].T
+
     def __call__(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """U at the points (a, b) (mm), nearest node; points off the grid clamp to its edge."""
         ia = np.clip(np.rint((a - self.origin[0]) / self.spacing), 0, self.values.shape[0] - 1)

@@ -1175,6 +1175,8 @@ class _Clip:
 
     def __init__(self, spec: FootageSpec) -> None:
         self.spec = spec
+        self.extended = spec.uses_real_footage_fields
+        self.columns = spec.truth_columns
         cam = spec.camera
         self.geom = spec.geometry
         self.states = None if spec.is_static else _simulate(_ModelInput.of(spec))
@@ -1459,7 +1461,7 @@ class _Clip:
             rows = tir_truth_rows(
                 frame, contacts, self.path, u_front=u_front, deflection_deg=deflection
             )
-            if spec.uses_real_footage_fields:
+            if self.extended:
                 self._real_truth(rows, frame, contacts, u_front, real)
         else:
             if spec.follow_camera:
@@ -1484,6 +1486,8 @@ class _Clip:
                 blur_block=not spec.follow_camera,
             )
             rows = self._side_rows(frame, contacts, polys, u_front, deflection)
+            if self.extended:
+                self._real_truth(rows, frame, contacts, u_front, None)
         return sig, self._table(k, rows)
 
     def _table(self, k: int, rows: list[dict[str, Any]]) -> pd.DataFrame:
@@ -1493,7 +1497,7 @@ class _Clip:
             "frame": np.full(n, k, dtype=np.int64),
             "time_s": np.full(n, self.time_of(k)),
         }
-        for col in self.spec.truth_columns[2:]:
+        for col in self.columns[2:]:
             data[col] = [r[col] for r in rows]
         table = pd.DataFrame(data)
         table["in_view"] = table["in_view"].astype(bool)
@@ -1592,18 +1596,24 @@ class _Clip:
             return self._apply_darkness(base, empty, (0, 0), (0, 0), blur_px=0.0), np.zeros(n)
         rows_px, cols_px = (int(lat_rows[0]), int(lat_rows[-1]) + 1), (c0, c1)
         x, y = sample_points(rows_px, cols_px, px)
-        u, v = path.to_path(x, y)
-        u, v = np.broadcast_arrays(u, v)
-        xi = (u - u_front) * path.direction
-        k = np.searchsorted(nodes, xi, side="right") - 1
-        kk = np.clip(k, 0, p_mid.size - 1)
-        inside = (
-            (k >= 0) & (k < p_mid.size) & (np.abs(v - path.lateral_mm) <= 0.5 * path.block_width_mm)
-        )
-        p = np.where(inside, p_mid[kk], 0.0)
-        e = np.where(inside & (p > 0), elem[kk], -1)
-        covered = (e >= 0) & (self.patches(xi, v) < real_fraction(p))
-        dark = np.where(covered, self.contact.darkness(p), 0.0)
+        half_w = 0.5 * path.block_width_mm
+        if path.rotation_rad == 0.0:
+            # Separable: xi depends on x only, v on y only (u = x, v = y - yc).
+            xi = (x[0] - u_front) * path.direction
+            v = y[:, 0] - path.centre[1]
+            p1, e1 = _cells_at(nodes, p_mid, elem, xi)
+            e = np.where(np.abs(v - path.lateral_mm)[:, None] <= half_w, e1[None, :], -1)
+            phi = real_fraction(p1)
+            covered = (e >= 0) & (self.patches.grid(xi, v) < phi[None, :])
+            dark = np.where(covered, self.contact.darkness(p1)[None, :], 0.0)
+        else:
+            u, v = path.to_path(x, y)
+            u, v = np.broadcast_arrays(u, v)
+            xi = (u - u_front) * path.direction
+            p, e = _cells_at(nodes, p_mid, elem, xi)
+            e = np.where(np.abs(v - path.lateral_mm) <= half_w, e, -1)
+            covered = (e >= 0) & (self.patches(xi, v) < real_fraction(p))
+            dark = np.where(covered, self.contact.darkness(p), 0.0)
         sig = self._apply_darkness(base, dark, rows_px, cols_px, blur_px=blur_px)
         lit = self._lit_samples(rows_px, cols_px)
         real = np.bincount(e[covered & lit], minlength=n)[:n] * (px / SUPERSAMPLE) ** 2
@@ -1681,6 +1691,17 @@ class _Clip:
         if not ok:
             raise RuntimeError(f"OpenCV could not JPEG-encode frame {k}")
         return cv2.imdecode(buf, cv2.IMREAD_GRAYSCALE), table, buf.tobytes()
+
+
+def _cells_at(
+    nodes: np.ndarray, p_mid: np.ndarray, elem: np.ndarray, xi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Pressure (Pa, 0 outside) and element (-1 outside) of the cells at the points ``xi``."""
+    k = np.searchsorted(nodes, xi, side="right") - 1
+    inside = (k >= 0) & (k < p_mid.size)
+    kk = np.clip(k, 0, p_mid.size - 1)
+    p = np.where(inside, p_mid[kk], 0.0)
+    return p, np.where(inside & (p > 0), elem[kk], -1)
 
 
 def _youngs_modulus() -> float:

@@ -249,15 +249,16 @@ def test_coin_contact_is_the_rim_annulus():
 
 # -- patchy real contact -------------------------------------------------------------------------
 def _sample_tol(phi: float, area_mm2: float, sigma_mm: float) -> float:
-    """Four standard errors of a covered share phi over ``area_mm2`` of patches.
+    """Three standard errors of a covered share phi over ``area_mm2`` of patches.
 
     The field is Gaussian-filtered white noise of filter sd ``sigma``: its correlation is
     exp(-r^2 / (4 sigma^2)), of integral 4 pi sigma^2, which bounds the correlation area of
     the thresholded field; ``area / (4 pi sigma^2)`` independent patches then give the
-    binomial standard error ``sqrt(phi (1 - phi) / n)``.
+    binomial standard error ``sqrt(phi (1 - phi) / n)`` (conservative: over three seeds
+    the G0, G3 and G7 ratios scattered by 0.006, a third of this estimate).
     """
     n = area_mm2 / (4 * math.pi * sigma_mm**2)
-    return 4 * math.sqrt(phi * (1 - phi) / n)
+    return 3 * math.sqrt(phi * (1 - phi) / n)
 
 
 def test_patchy_pad_covers_the_model_fraction():
