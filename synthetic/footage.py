@@ -1829,8 +1829,12 @@ def render_footage(
         sink.close()
         bar.close()
     extra: dict[str, Any] = {}
-    if spec.uses_real_footage_fields and spec.view == "tir":
-        extra = _write_lit_mask(out, spec)
+    if spec.uses_real_footage_fields:
+        extra = (
+            _write_lit_mask(out, spec)
+            if spec.view == "tir"
+            else {"jpeg_quality": spec.camera.jpeg_quality}
+        )
     write_meta(out, spec, sink, truth_columns=columns, extra=extra)
     logger.info("wrote %d frames to %s (%s)", spec.n_frames, out, fmt)
     return out

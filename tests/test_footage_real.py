@@ -389,3 +389,24 @@ def test_default_spec_has_the_old_outputs(tmp_path):
 def test_bad_real_footage_fields_raise_naming_the_field(kw, match):
     with pytest.raises(ValueError, match=match):
         FootageSpec(**kw)
+
+
+def test_lit_area_of_a_rotated_path_is_the_clipped_polygon_area():
+    # A disc lit zone covering every pixel (fraction 1): the truth counts the contact inside
+    # the lit pixels by pixel coverage, which must equal the exact area of the contact
+    # polygons clipped to the image (the "full" truth, visible_area) to rounding (1e-9).
+    kw = {
+        "preset": "G3",
+        "n_frames": 1,
+        "dynamics": "steady",
+        "settle_s": 0.004,
+        "center_time_s": 0.0,
+    }
+    base = {"width_px": 256, "height_px": 128, "rotation_deg": 12.0}
+    lit = FootageSpec(camera=CameraSettings(**base, lit_shape="disc", lit_fraction=1.0), **kw)
+    assert lit_mask(lit).all()
+    full = FootageSpec(camera=CameraSettings(**base), **kw)
+    a = first(lit)[2].set_index("element")["contact_area_mm2"]
+    b = first(full)[2].set_index("element")["contact_area_mm2"]
+    assert a.index.tolist() == b.index.tolist() and b[-1] > 100
+    np.testing.assert_allclose(a, b, rtol=1e-9)
