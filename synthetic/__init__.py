@@ -12,7 +12,8 @@ Footage (:mod:`synthetic.footage`, TIR and side view; imported on use)
     :func:`render_footage`; real footage: :class:`LitZone`, :func:`lit_zone`,
     :func:`lit_mask`, :func:`model_contact_ratio`, :data:`REAL_TRUTH_COLUMNS`.
 Real-footage domain (:mod:`synthetic.domain`; imported on use)
-    :func:`sample_spec`, :func:`sample_specs`, :data:`CASE_CLASSES`.
+    :func:`sample_spec`, :func:`sample_specs`, :data:`CASE_CLASSES`,
+    :func:`real_photo_specs`.
 """
 
 from importlib import import_module
@@ -41,6 +42,7 @@ _LAZY = {
     "CASE_CLASSES": "synthetic.domain",
     "sample_spec": "synthetic.domain",
     "sample_specs": "synthetic.domain",
+    "real_photo_specs": "synthetic.domain",
 }
 
 __all__ = [
@@ -60,6 +62,7 @@ __all__ = [
     "make_steady_table",
     "make_transient_table",
     "model_contact_ratio",
+    "real_photo_specs",
     "render_footage",
     "sample_spec",
     "sample_specs",

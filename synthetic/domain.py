@@ -61,7 +61,7 @@ import numpy as np
 
 from synthetic.footage import CameraSettings, FootageSpec
 
-__all__ = ["CASE_CLASSES", "sample_spec", "sample_specs"]
+__all__ = ["CASE_CLASSES", "real_photo_specs", "sample_spec", "sample_specs"]
 
 logger = logging.getLogger(__name__)
 
@@ -218,3 +218,56 @@ def sample_specs(n: int, seed: int | None = 0) -> list[tuple[FootageSpec, str]]:
         raise ValueError(f"n must be >= 0, got n={n!r}")
     rng = np.random.default_rng(seed)
     return [sample_spec(rng) for _ in range(int(n))]
+
+
+def real_photo_specs(seed: int = 0, *, n_frames: int = 10) -> dict[str, FootageSpec]:
+    """Specs that imitate the two real FTIR photographs the pipeline failed on.
+
+    Both: 8-bit JPEG (quality 85) of 640 x 512 px at 0.0357 mm/px, white level 0.4 (the
+    free surface near grey 100), vignetting 0.5, illumination gradient 0.05, a lit disc
+    covering 28 % of the frame with a 2 mm rim and 9 % of the light outside (the
+    photograph's median grey 9), patchy real contact.
+
+    * ``"round pad"``: one static round contact of radius 2.75 mm (77 px) in the lit disc.
+    * ``"three points"``: three round contacts of radius 1 mm near the rim of the lit disc
+      at 80 % of the lit disc's radius (about 6.1 mm) from its centre, at 100, 140 and
+      180 deg.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the scene and the noise.
+    n_frames : int
+        Frames of each clip (static: only the noise changes).
+
+    Returns
+    -------
+    dict of str to FootageSpec
+    """
+    cam = CameraSettings(
+        width_px=640,
+        height_px=512,
+        mm_per_px=0.0357,
+        bit_depth=8,
+        white_level=0.4,
+        vignetting=0.5,
+        illumination_gradient=0.05,
+        lit_shape="disc",
+        lit_fraction=0.28,
+        lit_rim_mm=2.0,
+        outside_level=0.09,
+        jpeg_quality=85,
+    )
+    area = 0.28 * cam.width_px * cam.height_px * cam.mm_per_px**2
+    radius = math.sqrt(area / math.pi)
+    pts = tuple(
+        (0.8 * radius * math.cos(math.radians(a)), -0.8 * radius * math.sin(math.radians(a)))
+        for a in (100.0, 140.0, 180.0)
+    )
+    common = {"camera": cam, "n_frames": n_frames, "seed": seed, "real_contact": "patchy"}
+    return {
+        "round pad": FootageSpec(scene="round_pad", pad_radius_mm=2.75, **common),
+        "three points": FootageSpec(
+            scene="three_point", point_radius_mm=1.0, point_positions_mm=pts, **common
+        ),
+    }

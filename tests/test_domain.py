@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from synthetic.domain import CASE_CLASSES, sample_spec, sample_specs
-from synthetic.footage import iter_frames, lit_mask
+from synthetic.domain import CASE_CLASSES, real_photo_specs, sample_spec, sample_specs
+from synthetic.footage import iter_frames, lit_mask, lit_zone
 
 N = 300  # draws for the range checks (about 0.2 s); every class expected 43 times
 
@@ -121,3 +121,24 @@ def test_bad_sampler_arguments_raise():
         sample_specs(-1)
     with pytest.raises(TypeError, match="n must be an integer"):
         sample_specs(2.0)
+
+
+def test_real_photo_specs_look_like_the_photographs():
+    # The real FTIR photograph: 8-bit JPEG 640 x 512, grey 0-101, median 9, lit disc over
+    # ~28 % of the frame, pad radius 2.75 mm = 77 px at 0.0357 mm/px.
+    specs = real_photo_specs(n_frames=1)
+    pad = specs["round pad"]
+    _, img, truth = next(iter_frames(pad))
+    assert img.shape == (512, 640) and img.dtype == np.uint8
+    # Median: outside level 0.09 x 0.4 x 255 = 9.2 DN times the vignetting (0.5-1) over
+    # the dark 72 %: 5-9 DN; the photograph's 9 within 4 DN.
+    assert abs(float(np.median(img)) - 9) <= 4
+    # The bright free surface: the 99th percentile near 101 (white level 0.4 = 102 DN at
+    # the centre, +-2.5 % gradient and the noise); 10 DN allowed.
+    assert abs(float(np.percentile(img, 99)) - 101) <= 10
+    # Lit share: the bisection hits 28 % to one ring of boundary pixels (2 pi R / px).
+    ring = 2 * math.pi * lit_zone(pad).size_mm / 0.0357
+    np.testing.assert_allclose(lit_mask(pad).mean(), 0.28, atol=ring / img.size)
+    nominal = truth.loc[truth["element"] == 0, "nominal_contact_area_mm2"].iloc[0]
+    # pi 2.75^2 = 23.76 mm^2, to the sampled rim (2 pi r h, h = 0.0357 / 4 mm)
+    np.testing.assert_allclose(nominal, math.pi * 2.75**2, atol=2 * math.pi * 2.75 * 0.0357 / 4)
