@@ -30,12 +30,24 @@ per frame and 100 mm in the 400-frame clip, so it enters, crosses the 64 mm view
 travel from first to last contact) and leaves, with about 8 % of the frames empty at either
 end. Other speeds or frame rates change the travel per frame; the pass stays centred.
 
+Real footage
+------------
+Real rigs differ from the defaults: the TIR light may reach only part of the frame
+(``CameraSettings.lit_shape``, ``lit_fraction``, ``lit_rim_mm``, ``outside_level``; the
+ground truth then counts only contact inside the lit mask, :func:`lit_mask`), the signal may
+be low (``white_level``) and JPEG-compressed (``jpeg_quality``), the TIR camera may follow
+the block (``follow_camera``), the contact may be a static pad, coin or three points
+(``scene``), and the real contact is patchy (``real_contact="patchy"``: micro-contact
+patches covering the share :func:`friction_model.real_contact_fraction` of the nominal
+contact at the local pressure; :func:`model_contact_ratio`). :mod:`synthetic.domain` draws
+random clips from these ranges.
+
 Time and coordinates
 --------------------
 Frame ``k`` is exposed over ``exposure_s`` centred on ``time_s = k / fps``. Image x and y are
 in mm from the left and top image edges (pixel ``(r, c)`` covers ``[c, c+1) * mm_per_px`` in
 x); ground-truth positions are image x of points on the block centreline. The file layout and
-every column are described in ``docs/footage_format.md``.
+every column are described in ``docs/formats.md``.
 
 Examples
 --------
@@ -1725,8 +1737,10 @@ def iter_frames(spec: FootageSpec) -> Iterator[tuple[int, np.ndarray, pd.DataFra
     image : (height_px, width_px) ndarray of uint8 or uint16
         The frame (uint8 for 8-bit, uint16 holding 12- or 16-bit values).
     truth : pandas.DataFrame
-        Ground-truth rows of this frame, columns :data:`TRUTH_COLUMNS`: the block total
-        (element -1) first, then every element (0 leads) with any part in view.
+        Ground-truth rows of this frame, columns ``spec.truth_columns``
+        (:data:`TRUTH_COLUMNS`, plus :data:`REAL_TRUTH_COLUMNS` when a real-footage field is
+        set): the block total (element -1) first, then every element (0 leads) with any
+        part in view (static scenes: every contact touching the image).
 
     Notes
     -----
