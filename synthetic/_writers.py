@@ -33,7 +33,7 @@ _PNG_LEVEL = 1
 _BIGTIFF_ABOVE = 2**31
 #: Video codecs tried for ``fmt="avi"``, lossless first.
 _AVI_CODECS = ("FFV1", "Y800")
-_FRAME_FILE = re.compile(r"^frame_\d{6}\.(png|tif)$")
+_FRAME_FILE = re.compile(r"^frame_\d{6}\.(png|tif|jpg)$")
 
 
 class FrameSink:
@@ -54,13 +54,13 @@ class FrameSink:
         cam = spec.camera
         self._video: Any = None
         self._tiff: Any = None
-        if fmt in ("png", "tiff"):
+        if fmt in ("png", "tiff", "jpg"):
             frames = out_dir / "frames"
             frames.mkdir(exist_ok=True)
             for old in frames.iterdir():  # replace an earlier render of this writer
                 if old.is_file() and _FRAME_FILE.match(old.name):
                     old.unlink()
-            ext = "png" if fmt == "png" else "tif"
+            ext = {"png": "png", "tiff": "tif", "jpg": "jpg"}[fmt]
             self.info = {"frame_pattern": f"frames/frame_{{frame:06d}}.{ext}"}
         elif fmt == "avi":
             import cv2
@@ -93,9 +93,13 @@ class FrameSink:
             self._tiff = tifffile.TiffWriter(path, bigtiff=big)
             self.info = {"video_file": "footage.tif", "bigtiff": big}
 
-    def write(self, k: int, image: np.ndarray) -> None:
-        """Write frame ``k`` (frames arrive in order)."""
-        if self.fmt == "png":
+    def write(self, k: int, image: np.ndarray, *, encoded: bytes | None = None) -> None:
+        """Write frame ``k`` (frames arrive in order); ``encoded``: its JPEG bytes."""
+        if self.fmt == "jpg":
+            if encoded is None:
+                raise ValueError(f"fmt='jpg' needs the JPEG bytes of frame {k}, got None")
+            (self.out_dir / "frames" / f"frame_{k:06d}.jpg").write_bytes(encoded)
+        elif self.fmt == "png":
             import cv2
 
             name = self.out_dir / "frames" / f"frame_{k:06d}.png"
@@ -135,9 +139,18 @@ def _version() -> str:
 
 
 def write_meta(
-    out_dir: Path, spec: FootageSpec, sink: FrameSink, *, truth_columns: tuple[str, ...]
+    out_dir: Path,
+    spec: FootageSpec,
+    sink: FrameSink,
+    *,
+    truth_columns: tuple[str, ...],
+    extra: dict[str, Any] | None = None,
 ) -> Path:
-    """Write ``meta.json`` (keys in ``docs/footage_format.md``) and return its path."""
+    """Write ``meta.json`` (keys in ``docs/formats.md``) and return its path.
+
+    A static scene (``spec.is_static``) has no ``block`` entry and velocity 0 in
+    ``conditions``; ``extra`` (the real-footage entries) goes before ``format``.
+    """
     cam = spec.camera
     geom = spec.geometry
     meta: dict[str, Any] = {
@@ -179,6 +192,7 @@ def write_meta(
             "pressure_ref_MPa": spec.pressure_ref_MPa,
             "edge_band_mm": spec.edge_band_mm,
         },
+        **(extra or {}),
         "format": sink.fmt,
         **sink.info,
         "ground_truth_file": "ground_truth.csv",
@@ -190,6 +204,9 @@ def write_meta(
         "package": "tir-contact",
         "package_version": _version(),
     }
+    if spec.is_static:
+        del meta["block"]
+        meta["conditions"]["velocity_mps"] = 0.0
     path = out_dir / "meta.json"
     path.write_text(json.dumps(meta, indent=2, sort_keys=False) + "\n", encoding="utf-8")
     return path

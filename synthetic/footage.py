@@ -30,12 +30,24 @@ per frame and 100 mm in the 400-frame clip, so it enters, crosses the 64 mm view
 travel from first to last contact) and leaves, with about 8 % of the frames empty at either
 end. Other speeds or frame rates change the travel per frame; the pass stays centred.
 
+Real footage
+------------
+Real rigs differ from the defaults: the TIR light may reach only part of the frame
+(``CameraSettings.lit_shape``, ``lit_fraction``, ``lit_rim_mm``, ``outside_level``; the
+ground truth then counts only contact inside the lit mask, :func:`lit_mask`), the signal may
+be low (``white_level``) and JPEG-compressed (``jpeg_quality``), the TIR camera may follow
+the block (``follow_camera``), the contact may be a static pad, coin or three points
+(``scene``), and the real contact is patchy (``real_contact="patchy"``: micro-contact
+patches covering the share :func:`friction_model.real_contact_fraction` of the nominal
+contact at the local pressure; :func:`model_contact_ratio`). :mod:`synthetic.domain` draws
+random clips from these ranges.
+
 Time and coordinates
 --------------------
 Frame ``k`` is exposed over ``exposure_s`` centred on ``time_s = k / fps``. Image x and y are
 in mm from the left and top image edges (pixel ``(r, c)`` covers ``[c, c+1) * mm_per_px`` in
 x); ground-truth positions are image x of points on the block centreline. The file layout and
-every column are described in ``docs/footage_format.md``.
+every column are described in ``docs/formats.md``.
 
 Examples
 --------
@@ -65,7 +77,24 @@ import numpy as np
 import pandas as pd
 
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
-from synthetic._camera import Sensor, dust_field, illumination_field, max_dn
+from synthetic._camera import (
+    Sensor,
+    box_blur_x,
+    dust_field,
+    illumination_field,
+    interval_coverage,
+    max_dn,
+)
+from synthetic._lighting import LIT_SHAPES, lit_distance, lit_factor, lit_zone_size
+from synthetic._real_contact import (
+    SUPERSAMPLE,
+    PatchTexture,
+    StaticScene,
+    pool,
+    pressure_cells,
+    real_fraction,
+    sample_points,
+)
 from synthetic._render_side import (
     SideLayout,
     deflection_angles,
@@ -88,10 +117,16 @@ from synthetic._render_tir import (
 from synthetic._writers import FrameSink, open_sink, write_meta
 
 __all__ = [
+    "REAL_TRUTH_COLUMNS",
+    "SCENES",
     "TRUTH_COLUMNS",
     "CameraSettings",
     "FootageSpec",
+    "LitZone",
     "iter_frames",
+    "lit_mask",
+    "lit_zone",
+    "model_contact_ratio",
     "render_footage",
 ]
 
@@ -137,6 +172,29 @@ _STEP_DEFAULTS: dict[str, Any] = {
     "step_time_s": None,
     "friction_relaxation_s": 0.0,
 }
+#: Real-footage fields of the spec and the camera, and their defaults as JSON values (left
+#: out of ``FootageSpec.to_dict`` at these values).
+_REAL_DEFAULTS: dict[str, Any] = {
+    "scene": "block",
+    "pad_radius_mm": 2.75,
+    "coin_radii_mm": [7.0, 8.0],
+    "point_radius_mm": 1.0,
+    "point_positions_mm": None,
+    "real_contact": "solid",
+    "patch_correlation_mm": 0.2,
+}
+_CAMERA_REAL_DEFAULTS: dict[str, Any] = {
+    "lit_shape": "full",
+    "lit_fraction": 1.0,
+    "lit_rim_mm": 1.0,
+    "lit_center_mm": [0.0, 0.0],
+    "outside_level": 0.05,
+    "jpeg_quality": None,
+}
+#: Scenes of the TIR view: the sliding block or a static contact.
+SCENES = ("block", "round_pad", "coin", "three_point")
+#: Extra ground-truth columns of specs that use a real-footage field.
+REAL_TRUTH_COLUMNS = ("nominal_contact_area_mm2", "real_contact_fraction")
 
 
 # -- validation helpers --------------------------------------------------------------------
@@ -236,6 +294,24 @@ class CameraSettings:
         a shallow rut hardly visible by eye. 0 removes it.
     n_dust : int
         Out-of-focus dust particles on the prism or lens, in [0, 10000]; 20.
+    lit_shape : {"full", "disc", "ellipse", "band"}
+        TIR view: where the totally reflected light reaches the camera. "full": the whole
+        frame (as before this field existed); otherwise a disc, an ellipse (the frame's
+        aspect ratio) or a band along x with a dark outside (real rigs often light only a
+        vignetted disc, e.g. 28 % of the frame). Side view: "full" only.
+    lit_fraction : float
+        Share of the frame inside the lit zone (its lit mask, see :func:`lit_mask`), in
+        [0.2, 1]; ignored for ``lit_shape="full"``.
+    lit_rim_mm : float
+        Width of the soft rim over which the light falls from the lit level to the
+        outside level, mm, in [0, 100] (at least one pixel is used); 1 mm.
+    lit_center_mm : (float, float)
+        Centre of the lit zone relative to the image centre, (x, y), mm.
+    outside_level : float
+        Light left outside the lit zone, fraction of the lit level, in [0, 1); 0.05.
+    jpeg_quality : int, optional
+        JPEG quality 1-100: every frame is JPEG-compressed (OpenCV) and decoded again, and a
+        clip folder gets ``.jpg`` frames; 8-bit only. None (default): no compression.
     """
 
     fps: float = 4000.0
@@ -256,6 +332,12 @@ class CameraSettings:
     n_scratches: int = 5
     groove_depth: float = 0.05
     n_dust: int = 20
+    lit_shape: str = "full"
+    lit_fraction: float = 1.0
+    lit_rim_mm: float = 1.0
+    lit_center_mm: tuple[float, float] = (0.0, 0.0)
+    outside_level: float = 0.05
+    jpeg_quality: int | None = None
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
@@ -291,6 +373,33 @@ class CameraSettings:
         if gd >= 1.0:
             raise ValueError(f"groove_depth must lie in [0, 1), got groove_depth={gd!r}")
         put("groove_depth", gd)
+        self._check_real_footage(put)
+
+    def _check_real_footage(self, put: Any) -> None:
+        """Validate the lit zone and JPEG fields."""
+        put("lit_shape", _choice("lit_shape", self.lit_shape, LIT_SHAPES))
+        put("lit_fraction", _in_range("lit_fraction", self.lit_fraction, 0.2, 1.0))
+        put("lit_rim_mm", _in_range("lit_rim_mm", self.lit_rim_mm, 0.0, 100.0, unit="mm"))
+        centre = self.lit_center_mm
+        if not isinstance(centre, (tuple, list)) or len(centre) != 2:
+            raise TypeError(
+                f"lit_center_mm must be a pair (x, y) of numbers, got lit_center_mm={centre!r}"
+            )
+        put(
+            "lit_center_mm",
+            (_real("lit_center_mm[0]", centre[0]), _real("lit_center_mm[1]", centre[1])),
+        )
+        out = _in_range("outside_level", self.outside_level, 0.0, 1.0)
+        if out >= 1.0:
+            raise ValueError(f"outside_level must lie in [0, 1), got outside_level={out!r}")
+        put("outside_level", out)
+        if self.jpeg_quality is not None:
+            put("jpeg_quality", _integer("jpeg_quality", self.jpeg_quality, 1, 100))
+            if self.bit_depth != 8:
+                raise ValueError(
+                    "bit_depth must be 8 with jpeg_quality (JPEG frames are 8-bit), got "
+                    f"bit_depth={self.bit_depth} with jpeg_quality={self.jpeg_quality}"
+                )
 
     @property
     def read_noise(self) -> float:
@@ -338,8 +447,10 @@ class FootageSpec:
     noise : bool
         False renders without shot and read noise (still quantised).
     follow_camera : bool
-        Side view only: the camera moves with the block (block fixed in the image, the ice
-        moves); the TIR camera is fixed under the prism.
+        The camera moves with the block: the block stays fixed in the image and the ice
+        (side view: its slab and bubbles; TIR: bubbles, scratches and groove) moves under
+        it, without motion blur of the block; the light field, dust and vignetting stay
+        fixed to the camera. Not with a static ``scene``.
     dynamics : {"simulated", "steady"}
         ``"simulated"``: the rigid model is integrated over ``settle_s`` plus the clip and
         frame ``k`` shows its state at ``settle_s + k / fps`` (self-excited oscillations
@@ -390,12 +501,39 @@ class FootageSpec:
         :class:`friction_model.laws.RelaxedFriction`), s, in [0, 1]; 0 (the default) uses
         the steady law. The model starts (``settle_s`` before frame 0) with mu at its
         steady value.
+    scene : {"block", "round_pad", "coin", "three_point"}
+        TIR view: what touches the ice. "block": the sliding tread block (as before this
+        field existed). The others are static contacts, the same in every frame (only the
+        noise changes), centred on the lit zone: a round pad of radius ``pad_radius_mm``
+        with a Hertz-like pressure ``3/2 p sqrt(1 - r^2/a^2)``; a coin whose flat face
+        touches along its rim, an annulus of radii ``coin_radii_mm`` with an elliptic
+        profile across it; three round contacts of radius ``point_radius_mm`` at
+        ``point_positions_mm``. Their mean pressure is ``pressure_bar``.
+    pad_radius_mm : float
+        Radius of the round pad, mm, in (0, 100]; 2.75 as in a real FTIR photograph.
+    coin_radii_mm : (float, float)
+        Inner and outer radius of the coin's contact rim, mm, 0 <= inner < outer <= 100.
+    point_radius_mm : float
+        Radius of each of the three point contacts, mm, in (0, 100].
+    point_positions_mm : tuple of three (x, y), optional
+        Centres of the three point contacts relative to the lit zone's centre, mm; default
+        an equilateral triangle 3 mm from the centre (at 90, 210 and 330 deg).
+    real_contact : {"solid", "patchy"}
+        TIR view: "solid": the whole nominal contact touches (as before this field
+        existed); "patchy": only micro-contact patches touch, covering the share
+        ``phi(p)`` of the nominal contact that :func:`friction_model.real_contact_fraction`
+        gives at the local pressure (see :mod:`synthetic._real_contact`).
+    patch_correlation_mm : float
+        Size of the micro-contact patches: standard deviation of the Gaussian filter of the
+        random field, mm, in (0, 10]; 0.2.
 
     Notes
     -----
     Invalid values raise ``ValueError`` (``TypeError`` for a wrong type) naming the field.
-    Specs that leave the last three fields at their defaults render exactly as before they
-    existed (same bytes, same ``meta.json``: :meth:`to_dict` lists them only when set).
+    Specs that leave the velocity-step fields and the real-footage fields (``scene`` and
+    after, the camera's ``lit_*``, ``outside_level`` and ``jpeg_quality``, a TIR
+    ``follow_camera``) at their defaults render exactly as before they existed (same bytes,
+    same ``meta.json``: :meth:`to_dict` lists them only when set).
     """
 
     preset: str = "G3"
@@ -426,6 +564,13 @@ class FootageSpec:
     velocity_step_to_mps: float | None = None
     step_time_s: float | None = None
     friction_relaxation_s: float = 0.0
+    scene: str = "block"
+    pad_radius_mm: float = 2.75
+    coin_radii_mm: tuple[float, float] = (7.0, 8.0)
+    point_radius_mm: float = 1.0
+    point_positions_mm: tuple[tuple[float, float], ...] | None = None
+    real_contact: str = "solid"
+    patch_correlation_mm: float = 0.2
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
@@ -460,11 +605,6 @@ class FootageSpec:
         put("seed", _integer("seed", self.seed, 0, 2**63 - 1))
         put("noise", _flag("noise", self.noise))
         put("follow_camera", _flag("follow_camera", self.follow_camera))
-        if self.follow_camera and self.view != "side":
-            raise ValueError(
-                "follow_camera must be False for view='tir' (the camera is fixed under the "
-                "prism), got follow_camera=True"
-            )
         put("dynamics", _choice("dynamics", self.dynamics, ("simulated", "steady")))
         put("settle_s", _in_range("settle_s", self.settle_s, 0.0, 1.0, low_open=True, unit="s"))
         put("friction", _choice("friction", self.friction, ("exponential", "drywet")))
@@ -483,6 +623,88 @@ class FootageSpec:
         )
         put("edge_band_mm", _in_range("edge_band_mm", self.edge_band_mm, 0.0, 5.0, unit="mm"))
         self._check_step(put)
+        self._check_real_footage(put)
+
+    def _check_real_footage(self, put: Any) -> None:
+        """Validate the scene and real-contact fields."""
+        put("scene", _choice("scene", self.scene, SCENES))
+        put("real_contact", _choice("real_contact", self.real_contact, ("solid", "patchy")))
+        put(
+            "pad_radius_mm",
+            _in_range("pad_radius_mm", self.pad_radius_mm, 0.0, 100.0, low_open=True),
+        )
+        put(
+            "point_radius_mm",
+            _in_range("point_radius_mm", self.point_radius_mm, 0.0, 100.0, low_open=True),
+        )
+        put(
+            "patch_correlation_mm",
+            _in_range("patch_correlation_mm", self.patch_correlation_mm, 0.0, 10.0, low_open=True),
+        )
+        radii = self.coin_radii_mm
+        if not isinstance(radii, (tuple, list)) or len(radii) != 2:
+            raise TypeError(f"coin_radii_mm must be a pair (inner, outer), got {radii!r}")
+        r_in = _in_range("coin_radii_mm[0]", radii[0], 0.0, 100.0)
+        r_out = _in_range("coin_radii_mm[1]", radii[1], r_in, 100.0, low_open=True)
+        put("coin_radii_mm", (r_in, r_out))
+        if self.point_positions_mm is not None:
+            pts = self.point_positions_mm
+            if not isinstance(pts, (tuple, list)) or len(pts) != 3:
+                raise ValueError(
+                    "point_positions_mm must hold three (x, y) pairs, got "
+                    f"point_positions_mm={pts!r}"
+                )
+            clean = []
+            for j, pt in enumerate(pts):
+                if not isinstance(pt, (tuple, list)) or len(pt) != 2:
+                    raise TypeError(f"point_positions_mm[{j}] must be a pair (x, y), got {pt!r}")
+                clean.append(
+                    (
+                        _real(f"point_positions_mm[{j}]", pt[0]),
+                        _real(f"point_positions_mm[{j}]", pt[1]),
+                    )
+                )
+            put("point_positions_mm", tuple(clean))
+        if self.view == "side":
+            for name, value, default in (
+                ("scene", self.scene, "block"),
+                ("real_contact", self.real_contact, "solid"),
+                ("camera.lit_shape", self.camera.lit_shape, "full"),
+            ):
+                if value != default:
+                    raise ValueError(
+                        f"{name} must be {default!r} for view='side' (a TIR feature), got "
+                        f"{name}={value!r}"
+                    )
+        if self.scene != "block" and self.follow_camera:
+            raise ValueError(
+                f"follow_camera must be False for a static scene, got follow_camera=True with "
+                f"scene={self.scene!r}"
+            )
+
+    @property
+    def is_static(self) -> bool:
+        """True for a static contact scene (no sliding block)."""
+        return self.scene != "block"
+
+    @property
+    def uses_real_footage_fields(self) -> bool:
+        """True when any real-footage field differs from its default (extended outputs:
+        the ground-truth columns :data:`REAL_TRUTH_COLUMNS` and ``lit_mask.png``)."""
+        d = self.to_dict()
+        return (
+            any(k in d for k in _REAL_DEFAULTS)
+            or any(k in d["camera"] for k in _CAMERA_REAL_DEFAULTS)
+            or (self.follow_camera and self.view == "tir")
+        )
+
+    @property
+    def truth_columns(self) -> tuple[str, ...]:
+        """Columns of this spec's ground truth: :data:`TRUTH_COLUMNS`, plus
+        :data:`REAL_TRUTH_COLUMNS` when it uses a real-footage field."""
+        if self.uses_real_footage_fields:
+            return TRUTH_COLUMNS + REAL_TRUTH_COLUMNS
+        return TRUTH_COLUMNS
 
     def _check_step(self, put: Any) -> None:
         """Validate the velocity step and the friction relaxation (Eq. 5.12) fields."""
@@ -579,6 +801,12 @@ class FootageSpec:
         for name in _STEP_FIELDS:
             if out[name] == _STEP_DEFAULTS[name]:
                 del out[name]
+        for name, default in _REAL_DEFAULTS.items():
+            if out[name] == default:
+                del out[name]
+        for name, default in _CAMERA_REAL_DEFAULTS.items():
+            if out["camera"][name] == default:
+                del out["camera"][name]
         return out
 
 
@@ -745,15 +973,225 @@ def _element_frame(geom: BlockGeometry, states: _ModelStates, k: int) -> Element
     )
 
 
+def _contact_params(spec: FootageSpec) -> ContactParams:
+    geom = spec.geometry
+    return ContactParams(
+        winkler_Pa_per_mm=_youngs_modulus() / geom.height_mm,
+        width_mm=geom.width_mm,
+        load_N=spec.pressure_bar * 1e5 * geom.nominal_area_mm2 * 1e-6,
+        contrast=spec.contrast,
+        contrast_max=spec.contrast_max,
+        pressure_ref_Pa=spec.pressure_ref_MPa * 1e6,
+        band_mm=spec.edge_band_mm,
+    )
+
+
+def model_contact_ratio(spec: FootageSpec) -> float:
+    """Contact ratio (real contact area / nominal area) that the models predict for ``spec``.
+
+    Parameters
+    ----------
+    spec : FootageSpec
+
+    Returns
+    -------
+    float
+        ``scene="block"``: the real contact area over the block's nominal area ``L w``
+        (Fig. 4.21), ``sum_i int phi(p_i) dxi / L`` over the pressure cells the renderer
+        draws (``phi = 1`` for ``real_contact="solid"``: the face contact ratio of the rigid
+        model), averaged over the clip's frames (one steady state for
+        ``dynamics="steady"``). Static scenes: the real area over the scene's nominal
+        contact area, the mean of ``phi(p)`` over its pressure profile (1 when solid).
+
+    Notes
+    -----
+    The renderer draws ``phi`` as the expected covered share; a rendered clip's ratio
+    differs from this by the finite sample of micro-contact patches and by the parts of the
+    contact outside the image or the lit zone.
+    """
+    if not isinstance(spec, FootageSpec):
+        raise TypeError(f"spec must be a FootageSpec, got {type(spec).__name__}")
+    patchy = spec.real_contact == "patchy"
+    if spec.is_static:
+        if not patchy:
+            return 1.0
+        sc = static_scene(spec)
+        n = 20000
+        if sc.kind == "coin":
+            r = sc.inner_radius_mm + (np.arange(n) + 0.5) / n * (sc.radius_mm - sc.inner_radius_mm)
+        else:
+            r = (np.arange(n) + 0.5) / n * sc.radius_mm
+        p, _ = sc.pressure(r + sc.centres_mm[0][0], np.full(n, sc.centres_mm[0][1]))
+        return float(np.sum(real_fraction(p) * r) / np.sum(r))
+    geom = spec.geometry
+    states = _simulate(_ModelInput.of(spec))
+    params = _contact_params(spec)
+    spacing = spec.camera.mm_per_px / 8.0
+    ratios = []
+    rows = {states.row(k) for k in range(spec.n_frames)}
+    for row in sorted(rows):
+        k = row - states.first_row if states.phi_rad.shape[0] > 1 else 0
+        frame = _element_frame(geom, states, k)
+        contacts = element_contacts(frame, params, node_spacing_mm=spacing)
+        nodes, p_mid, elem = pressure_cells(frame, contacts)
+        weight = real_fraction(p_mid) if patchy else (elem >= 0).astype(float)
+        ratios.append(float(np.sum(weight * np.diff(nodes))) / geom.length_mm)
+    return float(np.mean(ratios))
+
+
+# -- real footage: lit zone, static scenes, moving ice ------------------------------------------
+@dataclass(frozen=True)
+class LitZone:
+    """The lit zone of a spec's TIR view (fixed to the camera).
+
+    Attributes
+    ----------
+    shape : str
+        ``camera.lit_shape``.
+    size_mm : float
+        Disc radius, ellipse semi-axis along x or band half-height, mm (inf for "full").
+    factor : (H, W) ndarray of float32
+        Light factor of each pixel: 1 inside, ``outside_level`` outside, a smooth step
+        over the rim (all ones for "full").
+    mask : (H, W) ndarray of bool
+        The lit mask: pixels whose centre lies inside the zone boundary, i.e. whose light
+        factor is at least half-way from ``outside_level`` to 1 (all True for "full").
+    """
+
+    shape: str
+    size_mm: float
+    factor: np.ndarray
+    mask: np.ndarray
+
+    @property
+    def fraction(self) -> float:
+        """Share of the frame's pixels in the lit mask."""
+        return float(np.mean(self.mask))
+
+
+def lit_zone(spec: FootageSpec) -> LitZone:
+    """The lit zone of ``spec`` (light factor and lit mask, see :class:`LitZone`).
+
+    Parameters
+    ----------
+    spec : FootageSpec
+
+    Returns
+    -------
+    LitZone
+        Its size is chosen so that the mask covers ``camera.lit_fraction`` of the frame (to
+        the pixels along one perimeter); the boundary is the level ``s = 1/2`` of the rim's
+        smooth step (:mod:`synthetic._lighting`).
+    """
+    cam = spec.camera
+    h, w = cam.height_px, cam.width_px
+    if cam.lit_shape == "full":
+        return LitZone("full", math.inf, np.ones((h, w), dtype=np.float32), np.ones((h, w), bool))
+    size = lit_zone_size(
+        cam.lit_shape,
+        cam.lit_fraction,
+        height_px=h,
+        width_px=w,
+        mm_per_px=cam.mm_per_px,
+        center_mm=cam.lit_center_mm,
+    )
+    d = lit_distance(
+        cam.lit_shape,
+        size,
+        height_px=h,
+        width_px=w,
+        mm_per_px=cam.mm_per_px,
+        center_mm=cam.lit_center_mm,
+    )
+    factor = lit_factor(
+        d, rim_mm=cam.lit_rim_mm, mm_per_px=cam.mm_per_px, outside=cam.outside_level
+    )
+    return LitZone(cam.lit_shape, size, factor, d >= 0.0)
+
+
+def lit_mask(spec: FootageSpec) -> np.ndarray:
+    """The lit mask of ``spec``: (H, W) bool, True where the TIR light reaches the camera.
+
+    The ground truth counts contact only inside it (``lit_mask.png`` of a clip folder holds
+    it as 0/255). See :class:`LitZone`.
+    """
+    return lit_zone(spec).mask
+
+
+def static_scene(spec: FootageSpec) -> StaticScene:
+    """The static contact of ``spec.scene`` in image coordinates (mm; not for "block")."""
+    cam = spec.camera
+    w_mm, h_mm = cam.field_of_view_mm
+    cx = 0.5 * w_mm + cam.lit_center_mm[0]
+    cy = 0.5 * h_mm + cam.lit_center_mm[1]
+    p = spec.pressure_bar * 1e5
+    if spec.scene == "round_pad":
+        return StaticScene("round_pad", ((cx, cy),), spec.pad_radius_mm, 0.0, p)
+    if spec.scene == "coin":
+        r_in, r_out = spec.coin_radii_mm
+        return StaticScene("coin", ((cx, cy),), r_out, r_in, p)
+    if spec.scene == "three_point":
+        pts = spec.point_positions_mm
+        if pts is None:
+            pts = tuple(
+                (3.0 * math.cos(math.radians(a)), -3.0 * math.sin(math.radians(a)))
+                for a in (90.0, 210.0, 330.0)
+            )
+        centres = tuple((cx + dx, cy + dy) for dx, dy in pts)
+        return StaticScene("three_point", centres, spec.point_radius_mm, 0.0, p)
+    raise ValueError(f"scene must be a static scene, got scene={spec.scene!r}")
+
+
+class _IceCanvas:
+    """Ice imperfections over the whole stretch a following TIR camera sees (moving ice)."""
+
+    def __init__(self, clip: _Clip, rng: np.random.Generator) -> None:
+        spec, cam, path = clip.spec, clip.spec.camera, clip.path
+        px = cam.mm_per_px
+        travel = max(abs(clip.travel_mm(0)), abs(clip.travel_mm(spec.n_frames - 1))) + px
+        self.c, self.s = math.cos(path.rotation_rad), math.sin(path.rotation_rad)
+        self.mx = math.ceil(travel * abs(self.c) / px) + 2
+        self.my = math.ceil(travel * abs(self.s) / px) + 2
+        w, h = cam.width_px + 2 * self.mx, cam.height_px + 2 * self.my
+        canvas = dataclasses.replace(path, width_mm=w * px, height_mm=h * px)
+        scale = (w * h) / (cam.width_px * cam.height_px)
+        self.ice = ice_transmission(
+            canvas,
+            rng=rng,
+            n_bubbles=round(cam.n_bubbles * scale),
+            n_scratches=round(cam.n_scratches * scale),
+            groove_depth=cam.groove_depth,
+        )
+        self.clip = clip
+        self.shape = (cam.height_px, cam.width_px)
+        self.px = px
+
+    def frame(self, k: int) -> np.ndarray:
+        """Ice transmission seen in frame k: the canvas shifted by the travel (bilinear)."""
+        d = self.clip.path.direction * self.clip.travel_mm(k) / self.px
+        oy, ox = self.my - d * self.s, self.mx - d * self.c
+        iy, ix = math.floor(oy), math.floor(ox)
+        fy, fx = np.float32(oy - iy), np.float32(ox - ix)
+        h, w = self.shape
+        a = self.ice
+        top = (1 - fx) * a[iy : iy + h, ix : ix + w] + fx * a[iy : iy + h, ix + 1 : ix + 1 + w]
+        bot = (1 - fx) * a[iy + 1 : iy + 1 + h, ix : ix + w] + fx * a[
+            iy + 1 : iy + 1 + h, ix + 1 : ix + 1 + w
+        ]
+        return ((1 - fy) * top + fy * bot).astype(np.float32)
+
+
 # -- the clip --------------------------------------------------------------------------------
 class _Clip:
     """Everything static of one spec: model, path, scene; renders frame ``k`` on demand."""
 
     def __init__(self, spec: FootageSpec) -> None:
         self.spec = spec
+        self.extended = spec.uses_real_footage_fields
+        self.columns = spec.truth_columns
         cam = spec.camera
         self.geom = spec.geometry
-        self.states = _simulate(_ModelInput.of(spec))
+        self.states = None if spec.is_static else _simulate(_ModelInput.of(spec))
         w_mm, h_mm = cam.field_of_view_mm
         self.path = PathGeometry(
             width_mm=w_mm,
@@ -764,15 +1202,7 @@ class _Clip:
             direction=1 if spec.sliding_direction == "left" else -1,
             block_width_mm=self.geom.width_mm,
         )
-        self.contact = ContactParams(
-            winkler_Pa_per_mm=_youngs_modulus() / self.geom.height_mm,
-            width_mm=self.geom.width_mm,
-            load_N=spec.pressure_bar * 1e5 * self.geom.nominal_area_mm2 * 1e-6,
-            contrast=spec.contrast,
-            contrast_max=spec.contrast_max,
-            pressure_ref_Pa=spec.pressure_ref_MPa * 1e6,
-            band_mm=spec.edge_band_mm,
-        )
+        self.contact = _contact_params(spec)
         self.t_mid = spec.center_time_s if spec.center_time_s is not None else 0.5 * spec.duration_s
         self.blur_mm = spec.velocity_mps * cam.exposure_s * 1e3
         self.blur_after_mm = (
@@ -789,7 +1219,14 @@ class _Clip:
         )
         dust = dust_field(cam.height_px, cam.width_px, n_dust=cam.n_dust, rng=scene_rng)
         level = np.float32(cam.white_level)
-        if spec.view == "tir":
+        self.lit = lit_zone(spec)
+        self.ice_canvas: _IceCanvas | None = None
+        if spec.view == "tir" and spec.follow_camera:
+            self.ice_canvas = _IceCanvas(self, scene_rng)
+            self.camera_base = (level * illum * dust * self.lit.factor).astype(np.float32)
+            self.base = self.camera_base * self.ice_canvas.frame(0)
+            self.lateral = self.path.lateral_coverage()
+        elif spec.view == "tir":
             ice = ice_transmission(
                 self.path,
                 rng=scene_rng,
@@ -797,7 +1234,10 @@ class _Clip:
                 n_scratches=cam.n_scratches,
                 groove_depth=cam.groove_depth,
             )
-            self.base = (level * illum * ice * dust).astype(np.float32)
+            if self.lit.shape == "full":
+                self.base = (level * illum * ice * dust).astype(np.float32)
+            else:
+                self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
             self.lateral = self.path.lateral_coverage()
         else:
             self.base = (level * illum * dust).astype(np.float32)
@@ -839,6 +1279,12 @@ class _Clip:
             )
         self.node_spacing_mm = cam.mm_per_px / 8.0
         self._cached: tuple[int, Any] | None = None
+        self.patches: PatchTexture | None = None
+        if spec.real_contact == "patchy":
+            self.patches = self._patch_texture()
+        self.static: tuple[np.ndarray, list[dict[str, Any]]] | None = None
+        if spec.is_static:
+            self.static = self._render_static()
         self.sensor = Sensor(
             (cam.height_px, cam.width_px),
             bit_depth=cam.bit_depth,
@@ -863,6 +1309,113 @@ class _Clip:
         if self.spec.has_step and self.time_of(k) >= float(self.spec.step_time_s):
             return self.blur_after_mm
         return self.blur_mm
+
+    def _patch_texture(self) -> PatchTexture:
+        """The micro-contact field, fixed to the rubber (block: (xi, v); static: (x, y))."""
+        spec, cam = self.spec, self.spec.camera
+        rng = np.random.default_rng(np.random.SeedSequence(spec.seed, spawn_key=(2,)))
+        h = cam.mm_per_px / SUPERSAMPLE
+        w_mm, h_mm = cam.field_of_view_mm
+        if spec.is_static:
+            return PatchTexture((0.0, 0.0), (w_mm, h_mm), h, spec.patch_correlation_mm, rng)
+        half_diag = 0.5 * math.hypot(w_mm, h_mm)
+        v0 = max(spec.lateral_offset_mm - 0.5 * self.geom.width_mm, -half_diag) - 1.0
+        v1 = min(spec.lateral_offset_mm + 0.5 * self.geom.width_mm, half_diag) + 1.0
+        xi0 = -0.5 * self.geom.height_mm - 1.0  # tips trail or lead by less than the height
+        extent = (self.geom.length_mm + self.geom.height_mm + 2.0, v1 - v0)
+        return PatchTexture((xi0, v0), extent, h, spec.patch_correlation_mm, rng)
+
+    def _render_static(self) -> tuple[np.ndarray, list[dict[str, Any]]]:
+        """Signal and ground-truth rows of a static scene (the same in every frame)."""
+        spec, cam = self.spec, self.spec.camera
+        scene = static_scene(spec)
+        px = cam.mm_per_px
+        rows_px, cols_px = scene.bbox_px(px, cam.height_px, cam.width_px)
+        x, y = sample_points(rows_px, cols_px, px)
+        p, idx = scene.pressure(x, y)
+        patches = self.patches
+        phi = real_fraction(p) if patches is not None else None
+        covered = idx >= 0
+        if patches is not None:
+            covered &= patches(np.broadcast_to(x, p.shape), np.broadcast_to(y, p.shape)) < phi
+        dark = np.where(covered, self.contact.darkness(p), 0.0)
+        sig = self._apply_darkness(self.base, dark, rows_px, cols_px, blur_px=0.0)
+        sub_area = (px / SUPERSAMPLE) ** 2
+        lit = self._lit_samples(rows_px, cols_px)
+        n = len(scene.centres_mm)
+        nominal = np.bincount(idx[(idx >= 0) & lit], minlength=n)[:n] * sub_area
+        real = np.bincount(idx[covered & lit], minlength=n)[:n] * sub_area
+        in_view = np.bincount(idx[idx >= 0], minlength=n)[:n] > 0
+        nan = math.nan
+        rows: list[dict[str, Any]] = []
+        for i in range(n):
+            if not in_view[i]:
+                continue
+            xc, _ = scene.centres_mm[i]
+            rows.append(
+                {
+                    "element": i,
+                    "in_view": True,
+                    "contact_area_mm2": float(real[i]),
+                    "contact_length_mm": nan,
+                    "front_edge_x_mm": nan,
+                    "front_peak_x_mm": xc if spec.scene != "coin" else nan,
+                    "deflection_angle_deg": nan,
+                    "tilt_deg": nan,
+                    "tip_deflection_mm": nan,
+                    "contact_fraction": 1.0,
+                    "normal_force_N": scene.pressure_Pa * scene.element_area_mm2 * 1e-6,
+                    "peak_pressure_MPa": scene.peak_pressure_Pa * 1e-6,
+                    "lever_arm_mm": nan,
+                    "nominal_contact_area_mm2": float(nominal[i]),
+                    "real_contact_fraction": float(real[i] / nominal[i]) if nominal[i] > 0 else nan,
+                }
+            )
+        total: dict[str, Any] = {col: nan for col in TRUTH_COLUMNS + REAL_TRUTH_COLUMNS}
+        total.update(element=-1, in_view=bool(rows))
+        nom_sum = float(sum(r["nominal_contact_area_mm2"] for r in rows))
+        real_sum = float(sum(r["contact_area_mm2"] for r in rows))
+        total.update(
+            contact_area_mm2=real_sum,
+            nominal_contact_area_mm2=nom_sum,
+            real_contact_fraction=real_sum / nom_sum if nom_sum > 0 else nan,
+        )
+        if rows:
+            total.update(
+                contact_fraction=1.0,
+                normal_force_N=float(sum(r["normal_force_N"] for r in rows)),
+                peak_pressure_MPa=scene.peak_pressure_Pa * 1e-6,
+            )
+        return sig, [total, *rows]
+
+    def _lit_samples(self, rows_px: tuple[int, int], cols_px: tuple[int, int]) -> np.ndarray:
+        """The lit mask of the pixels in the ranges, repeated onto their sub-pixel samples."""
+        m = self.lit.mask[rows_px[0] : rows_px[1], cols_px[0] : cols_px[1]]
+        return np.repeat(np.repeat(m, SUPERSAMPLE, axis=0), SUPERSAMPLE, axis=1)
+
+    def _apply_darkness(
+        self,
+        base: np.ndarray,
+        dark_samples: np.ndarray,
+        rows_px: tuple[int, int],
+        cols_px: tuple[int, int],
+        *,
+        blur_px: float,
+    ) -> np.ndarray:
+        """The TIR signal with the pixel means of ``dark_samples`` in the given ranges."""
+        bright = self.spec.contact_is == "bright"
+        c_max = np.float32(self.spec.contrast_max)
+        out = base * np.float32(1.0 - c_max) if bright else base.copy()
+        if dark_samples.size == 0:
+            return out
+        dark = pool(dark_samples).astype(np.float32)
+        if blur_px > 0.0:
+            dark = box_blur_x(dark, blur_px)
+        r0, r1 = rows_px
+        c0, c1 = cols_px
+        b = base[r0:r1, c0:c1]
+        out[r0:r1, c0:c1] = b * ((np.float32(1.0) - c_max + dark) if bright else (1.0 - dark))
+        return out
 
     def u_front(self, k: int) -> float:
         """Path coordinate u of the block's leading face at frame k, mm."""
@@ -891,23 +1444,37 @@ class _Clip:
 
     def signal(self, k: int) -> tuple[np.ndarray, pd.DataFrame]:
         spec = self.spec
+        if self.static is not None:
+            return self.static[0], self._table(k, [dict(r) for r in self.static[1]])
         frame, contacts, deflection, profile = self._model_frame(k)
         u_front = self.u_front(k)
         bright = spec.contact_is == "bright"
         if spec.view == "tir":
-            sig = render_tir_signal(
-                profile,
-                self.path,
-                u_front=u_front,
-                blur_mm=self.blur_of(k),
-                lateral=self.lateral,
-                base=self.base,
-                contrast=spec.contrast_max,
-                bright=bright,
+            base = (
+                self.base
+                if self.ice_canvas is None
+                else self.camera_base * self.ice_canvas.frame(k)
             )
+            blur = 0.0 if spec.follow_camera else self.blur_of(k)
+            real = None
+            if self.patches is not None:
+                sig, real = self._render_patchy(frame, contacts, u_front, base, blur)
+            else:
+                sig = render_tir_signal(
+                    profile,
+                    self.path,
+                    u_front=u_front,
+                    blur_mm=blur,
+                    lateral=self.lateral,
+                    base=base,
+                    contrast=spec.contrast_max,
+                    bright=bright,
+                )
             rows = tir_truth_rows(
                 frame, contacts, self.path, u_front=u_front, deflection_deg=deflection
             )
+            if self.extended:
+                self._real_truth(rows, frame, contacts, u_front, real)
         else:
             if spec.follow_camera:
                 tex = ice_texture_frame(
@@ -931,17 +1498,138 @@ class _Clip:
                 blur_block=not spec.follow_camera,
             )
             rows = self._side_rows(frame, contacts, polys, u_front, deflection)
+            if self.extended:
+                self._real_truth(rows, frame, contacts, u_front, None)
+        return sig, self._table(k, rows)
+
+    def _table(self, k: int, rows: list[dict[str, Any]]) -> pd.DataFrame:
         rows.sort(key=lambda r: r["element"])
         n = len(rows)
         data: dict[str, Any] = {
             "frame": np.full(n, k, dtype=np.int64),
             "time_s": np.full(n, self.time_of(k)),
         }
-        for col in TRUTH_COLUMNS[2:]:
+        for col in self.columns[2:]:
             data[col] = [r[col] for r in rows]
         table = pd.DataFrame(data)
         table["in_view"] = table["in_view"].astype(bool)
-        return sig, table
+        return table
+
+    # -- real footage: lit zone, patchy contact -----------------------------------------------
+    def _lit_area(self, u0: float, u1: float) -> float:
+        """Area (mm^2) of the block strip ``u0 <= u <= u1`` inside the lit mask's pixels.
+
+        Exact for ``rotation_deg = 0`` (the product of the lateral and the along-path pixel
+        coverage); with rotation each pixel is approximated by its mid-row segment.
+        """
+        lo, hi = min(u0, u1), max(u0, u1)
+        if hi - lo <= 0:
+            return 0.0
+        path, px = self.path, self.path.mm_per_px
+        if not hasattr(self, "_lat_lit"):
+            self._lat_lit = self.lateral.astype(np.float64) * self.lit.mask
+        h, w = self._lat_lit.shape
+        if path.rotation_rad == 0.0:
+            cov = interval_coverage(lo, hi, w, px)
+            return float(px * px * np.dot(self._lat_lit.sum(axis=0), cov))
+        c, s = math.cos(path.rotation_rad), math.sin(path.rotation_rad)
+        xc, yc = path.centre
+        xs = np.arange(w, dtype=np.float64) * px
+        ys = (np.arange(h, dtype=np.float64) + 0.5) * px
+        ua = xc + (xs[None, :] - xc) * c + (ys[:, None] - yc) * s
+        ub = ua + px * c
+        cov = np.clip(np.minimum(ub, hi) - np.maximum(ua, lo), 0.0, None) / (px * c)
+        return float(px * px * np.sum(self._lat_lit * cov))
+
+    def _real_truth(
+        self,
+        rows: list[dict[str, Any]],
+        frame: ElementFrame,
+        contacts: list[Any],
+        u_front: float,
+        real: np.ndarray | None,
+    ) -> None:
+        """Fill the real-footage columns: areas inside the lit zone, real (patchy) area."""
+        front = frame.front_corner_mm
+        nan = math.nan
+        total_nom = total_real = 0.0
+        for r in rows:
+            i = int(r["element"])
+            if i < 0:
+                continue
+            c = contacts[i]
+            if self.lit.shape == "full":
+                nominal = float(r["contact_area_mm2"])
+            elif c.length_mm > 0:
+                ua = float(self.path.u_of_xi(front[i] + c.zeta_start_mm, u_front))
+                ub = float(self.path.u_of_xi(front[i] + c.zeta_end_mm, u_front))
+                nominal = self._lit_area(ua, ub)
+            else:
+                nominal = 0.0
+            area = float(real[i]) if real is not None else nominal
+            r["contact_area_mm2"] = area
+            r["nominal_contact_area_mm2"] = nominal
+            r["real_contact_fraction"] = area / nominal if nominal > 0 else nan
+            total_nom += nominal
+            total_real += area
+        for r in rows:
+            if int(r["element"]) == -1:
+                r["contact_area_mm2"] = total_real
+                r["nominal_contact_area_mm2"] = total_nom
+                r["real_contact_fraction"] = total_real / total_nom if total_nom > 0 else nan
+
+    def _render_patchy(
+        self,
+        frame: ElementFrame,
+        contacts: list[Any],
+        u_front: float,
+        base: np.ndarray,
+        blur_mm: float,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """TIR signal with patchy real contact and each element's real area in the lit zone."""
+        path = self.path
+        px = path.mm_per_px
+        w = base.shape[1]
+        n = frame.n_elements
+        nodes, p_mid, elem = pressure_cells(frame, contacts)
+        blur_px = blur_mm / px
+        empty = np.zeros((0, 0))
+        if p_mid.size == 0:
+            return self._apply_darkness(base, empty, (0, 0), (0, 0), blur_px=0.0), np.zeros(n)
+        if path.rotation_rad == 0.0:
+            ends = np.sort(path.u_of_xi(nodes[[0, -1]], u_front))
+            pad = math.ceil(blur_px) + 1
+            c0 = max(math.floor(ends[0] / px) - pad, 0)
+            c1 = min(math.ceil(ends[1] / px) + pad, w)
+        else:
+            c0, c1 = 0, w
+        lat_rows = np.nonzero(self.lateral.max(axis=1) > 0)[0]
+        if c0 >= c1 or lat_rows.size == 0:
+            return self._apply_darkness(base, empty, (0, 0), (0, 0), blur_px=0.0), np.zeros(n)
+        rows_px, cols_px = (int(lat_rows[0]), int(lat_rows[-1]) + 1), (c0, c1)
+        x, y = sample_points(rows_px, cols_px, px)
+        half_w = 0.5 * path.block_width_mm
+        if path.rotation_rad == 0.0:
+            # Separable: xi depends on x only, v on y only (u = x, v = y - yc).
+            xi = (x[0] - u_front) * path.direction
+            v = y[:, 0] - path.centre[1]
+            p1, e1 = _cells_at(nodes, p_mid, elem, xi)
+            e = np.where(np.abs(v - path.lateral_mm)[:, None] <= half_w, e1[None, :], -1)
+            phi = real_fraction(p1)
+            covered = (e >= 0) & (self.patches.grid(xi, v) < phi[None, :])
+            dark = np.where(covered, self.contact.darkness(p1)[None, :], 0.0)
+        else:
+            u, v = path.to_path(x, y)
+            u, v = np.broadcast_arrays(u, v)
+            xi = (u - u_front) * path.direction
+            p, e = _cells_at(nodes, p_mid, elem, xi)
+            e = np.where(np.abs(v - path.lateral_mm) <= half_w, e, -1)
+            covered = (e >= 0) & (self.patches(xi, v) < real_fraction(p))
+            dark = np.where(covered, self.contact.darkness(p), 0.0)
+        sig = self._apply_darkness(base, dark, rows_px, cols_px, blur_px=blur_px)
+        lit = self._lit_samples(rows_px, cols_px)
+        real = np.bincount(e[covered & lit], minlength=n)[:n] * (px / SUPERSAMPLE) ** 2
+        return sig, real
 
     def _side_rows(
         self,
@@ -1002,9 +1690,30 @@ class _Clip:
             return None
         return np.random.default_rng(np.random.SeedSequence(self.spec.seed, spawn_key=(1, k)))
 
-    def image(self, k: int) -> tuple[np.ndarray, pd.DataFrame]:
+    def image(self, k: int) -> tuple[np.ndarray, pd.DataFrame, bytes | None]:
+        """Frame k: the image, its ground truth and its JPEG bytes (None without JPEG)."""
         sig, table = self.signal(k)
-        return self.sensor(sig, self.noise_rng(k)), table
+        img = self.sensor(sig, self.noise_rng(k))
+        quality = self.spec.camera.jpeg_quality
+        if quality is None:
+            return img, table, None
+        import cv2
+
+        ok, buf = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, int(quality)])
+        if not ok:
+            raise RuntimeError(f"OpenCV could not JPEG-encode frame {k}")
+        return cv2.imdecode(buf, cv2.IMREAD_GRAYSCALE), table, buf.tobytes()
+
+
+def _cells_at(
+    nodes: np.ndarray, p_mid: np.ndarray, elem: np.ndarray, xi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Pressure (Pa, 0 outside) and element (-1 outside) of the cells at the points ``xi``."""
+    k = np.searchsorted(nodes, xi, side="right") - 1
+    inside = (k >= 0) & (k < p_mid.size)
+    kk = np.clip(k, 0, p_mid.size - 1)
+    p = np.where(inside, p_mid[kk], 0.0)
+    return p, np.where(inside & (p > 0), elem[kk], -1)
 
 
 def _youngs_modulus() -> float:
@@ -1028,8 +1737,10 @@ def iter_frames(spec: FootageSpec) -> Iterator[tuple[int, np.ndarray, pd.DataFra
     image : (height_px, width_px) ndarray of uint8 or uint16
         The frame (uint8 for 8-bit, uint16 holding 12- or 16-bit values).
     truth : pandas.DataFrame
-        Ground-truth rows of this frame, columns :data:`TRUTH_COLUMNS`: the block total
-        (element -1) first, then every element (0 leads) with any part in view.
+        Ground-truth rows of this frame, columns ``spec.truth_columns``
+        (:data:`TRUTH_COLUMNS`, plus :data:`REAL_TRUTH_COLUMNS` when a real-footage field is
+        set): the block total (element -1) first, then every element (0 leads) with any
+        part in view (static scenes: every contact touching the image).
 
     Notes
     -----
@@ -1038,10 +1749,17 @@ def iter_frames(spec: FootageSpec) -> Iterator[tuple[int, np.ndarray, pd.DataFra
     """
     if not isinstance(spec, FootageSpec):
         raise TypeError(f"spec must be a FootageSpec, got {type(spec).__name__}")
+    for k, img, table, _ in _iter_encoded(spec):
+        yield k, img, table
+
+
+def _iter_encoded(
+    spec: FootageSpec,
+) -> Iterator[tuple[int, np.ndarray, pd.DataFrame, bytes | None]]:
     clip = _Clip(spec)
     for k in range(spec.n_frames):
-        img, table = clip.image(k)
-        yield k, img, table
+        img, table, encoded = clip.image(k)
+        yield k, img, table, encoded
 
 
 def _progress_bar(total: int, progress: bool | None) -> Any:
@@ -1055,7 +1773,7 @@ def render_footage(
     spec: FootageSpec,
     out_dir: str | Path,
     *,
-    fmt: str = "png",
+    fmt: str | None = None,
     progress: bool | None = None,
 ) -> Path:
     """Render a clip to ``out_dir``: frames, ``ground_truth.csv`` and ``meta.json``.
@@ -1065,7 +1783,11 @@ def render_footage(
     spec : FootageSpec
     out_dir : str or Path
         Output folder (created). Earlier frames of this writer's own naming are replaced.
-    fmt : {"png", "tiff", "avi", "multitiff"}
+    fmt : {"png", "jpg", "tiff", "avi", "multitiff"}, optional
+        Default ``"jpg"`` when ``camera.jpeg_quality`` is set, else ``"png"``. ``"jpg"``:
+        ``frames/frame_000000.jpg`` ... holding the very JPEG bytes whose decoding
+        :func:`iter_frames` yields (needs ``jpeg_quality``); with the other formats a JPEG
+        clip's decoded frames are stored losslessly.
         ``"png"``: ``frames/frame_000000.png`` ... (8-bit or 16-bit PNG); ``"tiff"``:
         ``frames/frame_000000.tif`` ... (uint8 or uint16 TIFF, uncompressed); ``"avi"``:
         ``footage.avi``, lossless FFV1 through OpenCV, 8-bit only; ``"multitiff"``:
@@ -1078,14 +1800,27 @@ def render_footage(
     Path
         ``out_dir``.
 
+    Notes
+    -----
+    A spec that uses a real-footage field (``FootageSpec.uses_real_footage_fields``) also
+    gets ``lit_mask.png`` (TIR view; uint8, 255 inside the lit mask of :func:`lit_mask`,
+    0 outside) and the ground-truth columns :data:`REAL_TRUTH_COLUMNS`.
+
     Raises
     ------
     ValueError
-        For an unknown ``fmt``, or ``fmt="avi"`` with a bit depth other than 8.
+        For an unknown ``fmt``, ``fmt="avi"`` with a bit depth other than 8, or
+        ``fmt="jpg"`` without ``camera.jpeg_quality``.
     """
     if not isinstance(spec, FootageSpec):
         raise TypeError(f"spec must be a FootageSpec, got {type(spec).__name__}")
-    _choice("fmt", fmt, ("png", "tiff", "avi", "multitiff"))
+    if fmt is None:
+        fmt = "png" if spec.camera.jpeg_quality is None else "jpg"
+    _choice("fmt", fmt, ("png", "jpg", "tiff", "avi", "multitiff"))
+    if fmt == "jpg" and spec.camera.jpeg_quality is None:
+        raise ValueError(
+            "camera.jpeg_quality must be set (1-100) for fmt='jpg', got jpeg_quality=None"
+        )
     if fmt == "avi" and spec.camera.bit_depth != 8:
         raise ValueError(
             "bit_depth must be 8 for fmt='avi' (OpenCV writes 8-bit video), got "
@@ -1096,17 +1831,25 @@ def render_footage(
     sink: FrameSink = open_sink(out, fmt, spec)
     bar = _progress_bar(spec.n_frames, progress)
     truth_path = out / "ground_truth.csv"
+    columns = spec.truth_columns
     try:
         with open(truth_path, "w", newline="", encoding="utf-8") as fh:
-            fh.write(",".join(TRUTH_COLUMNS) + "\n")
-            for k, img, table in iter_frames(spec):
-                sink.write(k, img)
-                _write_rows(fh, table)
+            fh.write(",".join(columns) + "\n")
+            for k, img, table, encoded in _iter_encoded(spec):
+                sink.write(k, img, encoded=encoded)
+                _write_rows(fh, table, columns)
                 bar.update(1)
     finally:
         sink.close()
         bar.close()
-    write_meta(out, spec, sink, truth_columns=TRUTH_COLUMNS)
+    extra: dict[str, Any] = {}
+    if spec.uses_real_footage_fields:
+        extra = (
+            _write_lit_mask(out, spec)
+            if spec.view == "tir"
+            else {"jpeg_quality": spec.camera.jpeg_quality}
+        )
+    write_meta(out, spec, sink, truth_columns=columns, extra=extra)
     logger.info("wrote %d frames to %s (%s)", spec.n_frames, out, fmt)
     return out
 
@@ -1122,6 +1865,40 @@ def _fmt(v: Any) -> str:
     return f"{f:.9g}"
 
 
-def _write_rows(fh: Any, table: pd.DataFrame) -> None:
-    cols = [table[c].to_numpy() for c in TRUTH_COLUMNS]
+def _write_lit_mask(out: Path, spec: FootageSpec) -> dict[str, Any]:
+    """Write ``lit_mask.png``; return the ``meta.json`` entries of the real-footage fields."""
+    import cv2
+
+    zone = lit_zone(spec)
+    path = out / "lit_mask.png"
+    if not cv2.imwrite(str(path), zone.mask.astype(np.uint8) * 255):
+        raise OSError(f"could not write {path}")
+    cam = spec.camera
+    entries: dict[str, Any] = {
+        "lit_zone": {
+            "shape": cam.lit_shape,
+            "fraction": zone.fraction,
+            "size_mm": None if math.isinf(zone.size_mm) else zone.size_mm,
+            "rim_mm": cam.lit_rim_mm,
+            "center_mm": list(cam.lit_center_mm),
+            "outside_level": cam.outside_level,
+            "mask_file": "lit_mask.png",
+        },
+        "scene": spec.scene,
+        "real_contact": spec.real_contact,
+        "jpeg_quality": cam.jpeg_quality,
+    }
+    if spec.is_static:
+        sc = static_scene(spec)
+        entries["static_contact"] = {
+            "centres_mm": [list(c) for c in sc.centres_mm],
+            "radius_mm": sc.radius_mm,
+            "inner_radius_mm": sc.inner_radius_mm,
+            "nominal_area_mm2": sc.element_area_mm2 * len(sc.centres_mm),
+        }
+    return entries
+
+
+def _write_rows(fh: Any, table: pd.DataFrame, columns: tuple[str, ...] = TRUTH_COLUMNS) -> None:
+    cols = [table[c].to_numpy() for c in columns]
     fh.write("".join(",".join(_fmt(c[i]) for c in cols) + "\n" for i in range(len(table))))

@@ -443,7 +443,9 @@ def test_truth_table_is_consistent():
         ("contrast", 0.0),
         ("contrast_max", 0.5),
         ("edge_band_mm", -0.1),
-        ("follow_camera", True),
+        # follow_camera=True is valid for the TIR view now (tests/test_footage_real.py)
+        ("scene", "disc"),
+        ("real_contact", "partial"),
     ],
 )
 def test_bad_spec_values_raise_naming_the_field(field, value):
@@ -466,6 +468,10 @@ def test_bad_spec_values_raise_naming_the_field(field, value):
         ("illumination_gradient", 1.5),
         ("n_bubbles", -1),
         ("groove_depth", 1.0),
+        ("lit_shape", "square"),
+        ("lit_fraction", 0.1),
+        ("outside_level", 1.0),
+        ("jpeg_quality", 0),
     ],
 )
 def test_bad_camera_values_raise_naming_the_field(field, value):

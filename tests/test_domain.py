@@ -1,0 +1,144 @@
+"""The real-footage domain sampler (:mod:`synthetic.domain`): determinism and ranges."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from synthetic.domain import CASE_CLASSES, real_photo_specs, sample_spec, sample_specs
+from synthetic.footage import iter_frames, lit_mask, lit_zone
+
+N = 300  # draws for the range checks (about 0.2 s); every class expected 43 times
+
+
+@pytest.fixture(scope="module")
+def draws():
+    return sample_specs(N, seed=11)
+
+
+def test_same_seed_same_specs_other_seed_other_specs():
+    a = [(s.to_dict(), c) for s, c in sample_specs(20, seed=3)]
+    b = [(s.to_dict(), c) for s, c in sample_specs(20, seed=3)]
+    c = [(s.to_dict(), c) for s, c in sample_specs(20, seed=4)]
+    assert a == b
+    assert a != c
+    # sample_spec with a seed is one draw of a fresh generator of that seed
+    assert sample_spec(7)[0] == sample_spec(np.random.default_rng(7))[0]
+
+
+def test_every_case_class_is_drawn_with_its_scene(draws):
+    cases = [c for _, c in draws]
+    counts = {c: cases.count(c) for c in CASE_CLASSES}
+    # 300 draws of 7 equally likely classes: 42.9 expected each, binomial sd 6.1; a class
+    # below 15 (4.6 sd low) would mean a broken draw.
+    assert min(counts.values()) >= 15, counts
+    scene_of = {
+        "tir static pad": "round_pad",
+        "tir static coin": "coin",
+        "tir static three-point": "three_point",
+    }
+    for spec, case in draws:
+        assert spec.view == ("tir" if case.startswith("tir") else "side")
+        assert spec.scene == scene_of.get(case, "block")
+        assert spec.follow_camera == (case in ("tir follow camera", "side follow"))
+
+
+def test_ranges_are_the_documented_ones(draws):
+    specs = [s for s, _ in draws]
+    cams = [s.camera for s in specs]
+    lit = [c for c in cams if c.lit_shape != "full"]
+    assert {c.lit_shape for c in lit} == {"disc", "ellipse", "band"}
+    assert all(0.2 <= c.lit_fraction <= 1.0 for c in lit)
+    assert all(0.02 <= c.outside_level <= 0.1 for c in lit)
+    assert all(0.0 <= c.vignetting <= 0.6 for c in cams)
+    assert all(0.3 <= c.white_level <= 0.8 for c in cams)
+    assert {c.bit_depth for c in cams} == {8, 12}
+    jpeg = [c for c in cams if c.jpeg_quality is not None]
+    assert jpeg and all(c.bit_depth == 8 and 70 <= c.jpeg_quality <= 95 for c in jpeg)
+    assert all(0.5 <= s.velocity_mps <= 3.0 for s in specs)
+    assert all(40 <= s.n_frames <= 120 for s in specs)
+    assert {s.preset for s in specs} == {"G0", "G3", "G5", "G6", "G7"}
+    assert {s.real_contact for s in specs if s.view == "tir"} == {"solid", "patchy"}
+    assert all(
+        s.real_contact == "solid" and s.camera.lit_shape == "full"
+        for s in specs
+        if s.view == "side"
+    )
+    # The lit shares span the range: uniform on [0.2, 1] over about 300 x 5/7 x 0.75 = 160
+    # lit TIR clips, the chance that none falls within 0.04 (5 % of the range) of an end is
+    # 0.95^160 = 3e-4.
+    fr = [c.lit_fraction for c in lit]
+    assert min(fr) < 0.24 and max(fr) > 0.96
+
+
+def test_a_fixed_camera_pass_fills_the_clip(draws):
+    # Unless the frame rate was clipped to [500, 20000]: the travel over the clip is the
+    # image width plus the block length plus 10 mm (float arithmetic: 1e-12 relative).
+    n = 0
+    for spec, case in draws:
+        cam = spec.camera
+        if case != "tir passing block" or cam.fps in (500.0, 20000.0):
+            continue
+        travel = spec.velocity_mps * 1e3 * (spec.n_frames - 1) / cam.fps
+        np.testing.assert_allclose(travel, cam.width_px * cam.mm_per_px + 30.0, rtol=1e-12)
+        n += 1
+    assert n > 10
+
+
+def test_near_rim_points_lie_near_the_lit_rim(draws):
+    # Three-point clips with a disc-shaped lit zone: points drawn at 75-95 % of the disc's
+    # radius (near the rim) or within 50 %; the disc's radius from its pixel count
+    # (sqrt(A / pi)) is exact to the boundary's pixel ring (1 px).
+    checked = 0
+    for spec, case in draws:
+        cam = spec.camera
+        if case != "tir static three-point" or cam.lit_shape != "disc":
+            continue
+        radius = math.sqrt(lit_mask(spec).sum() / math.pi) * cam.mm_per_px
+        for dx, dy in spec.point_positions_mm:
+            rel = math.hypot(dx, dy) / radius
+            assert rel <= 0.5 + 0.01 or 0.75 - 0.01 <= rel <= 0.95 + 0.01
+        checked += 1
+    assert checked > 0
+
+
+@pytest.mark.parametrize("case", CASE_CLASSES)
+def test_each_case_class_renders(draws, case):
+    spec = next(s for s, c in draws if c == case)
+    short = dataclasses.replace(spec, n_frames=2)
+    (_, img, truth), _ = list(iter_frames(short))
+    assert img.shape == (spec.camera.height_px, spec.camera.width_px)
+    assert img.dtype == (np.uint8 if spec.camera.bit_depth == 8 else np.uint16)
+    assert list(truth.columns)[:2] == ["frame", "time_s"]
+    assert (truth["contact_area_mm2"] >= 0).all()
+
+
+def test_bad_sampler_arguments_raise():
+    with pytest.raises(ValueError, match="n must be >= 0"):
+        sample_specs(-1)
+    with pytest.raises(TypeError, match="n must be an integer"):
+        sample_specs(2.0)
+
+
+def test_real_photo_specs_look_like_the_photographs():
+    # The real FTIR photograph: 8-bit JPEG 640 x 512, grey 0-101, median 9, lit disc over
+    # ~28 % of the frame, pad radius 2.75 mm = 77 px at 0.0357 mm/px.
+    specs = real_photo_specs(n_frames=1)
+    pad = specs["round pad"]
+    _, img, truth = next(iter_frames(pad))
+    assert img.shape == (512, 640) and img.dtype == np.uint8
+    # Median: outside level 0.09 x 0.4 x 255 = 9.2 DN times the vignetting (0.5-1) over
+    # the dark 72 %: 5-9 DN; the photograph's 9 within 4 DN.
+    assert abs(float(np.median(img)) - 9) <= 4
+    # The bright free surface: the 99th percentile near 101 (white level 0.4 = 102 DN at
+    # the centre, +-2.5 % gradient and the noise); 10 DN allowed.
+    assert abs(float(np.percentile(img, 99)) - 101) <= 10
+    # Lit share: the bisection hits 28 % to one ring of boundary pixels (2 pi R / px).
+    ring = 2 * math.pi * lit_zone(pad).size_mm / 0.0357
+    np.testing.assert_allclose(lit_mask(pad).mean(), 0.28, atol=ring / img.size)
+    nominal = truth.loc[truth["element"] == 0, "nominal_contact_area_mm2"].iloc[0]
+    # pi 2.75^2 = 23.76 mm^2, to the sampled rim (2 pi r h, h = 0.0357 / 4 mm)
+    np.testing.assert_allclose(nominal, math.pi * 2.75**2, atol=2 * math.pi * 2.75 * 0.0357 / 4)
