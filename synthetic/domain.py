@@ -24,7 +24,10 @@ Case classes (drawn with equal probability)
 Ranges (uniform unless said)
 ----------------------------
 * Frame: width 160-320 px, height 96-256 px; 0.05-0.15 mm/px for the sliding block, 0.03-
-  0.08 mm/px for the static scenes (a real FTIR photograph: 0.036 mm/px).
+  0.08 mm/px for the static scenes (a real FTIR photograph: 0.036 mm/px); a side view at
+  least 16 mm high (the elements, base and carrier above the ice line in view), and a
+  following side camera at least twice the block's 20 mm wide (the block's background is
+  seen beside it; up to 800 px wide then).
 * Clip: 40-120 frames; block: preset G0, G3, G5, G6 or G7, 0.5-3 m/s, 1.5-4 bar, steady
   state of a 4 ms model run (``dynamics="steady"``: every clip integrates the model once,
   about 0.5 s); the frame rate makes the pass of a fixed camera fill the clip (image width
@@ -80,6 +83,9 @@ _PRESETS = ("G0", "G3", "G5", "G6", "G7")
 _LIT_SHAPES = ("disc", "ellipse", "band")
 #: Block length of the reference samples, mm.
 _BLOCK_MM = 20.0
+#: Least image height of a side view, mm: 6 mm elements, 2 mm base and 3 mm carrier above
+#: the ice line at 3/4 of the height, with 1 mm to spare.
+_SIDE_VIEW_MM = 16.0
 
 
 def _u(rng: np.random.Generator, lo: float, hi: float) -> float:
@@ -96,7 +102,10 @@ def _camera(rng: np.random.Generator, case: str, *, static: bool) -> dict[str, A
         "mm_per_px": _u(rng, 0.03, 0.08) if static else _u(rng, 0.05, 0.15),
         "bit_depth": bit_depth,
         "gain": _u(rng, 1.0, 4.0),
-        "white_level": _u(rng, 0.3, 0.8),
+        # the recorded free-surface level (white level x gain) is 0.3-0.9 of full scale: a
+        # rig's exposure is set below saturation (a saturated free surface hides how
+        # much light a contact removes); the gain amplifies the noise
+        "white_level": _u(rng, 0.3, 0.9),
         "vignetting": _u(rng, 0.0, 0.6),
         "illumination_gradient": _u(rng, 0.0, 0.3),
         "n_bubbles": int(rng.integers(0, 41)),
@@ -106,6 +115,13 @@ def _camera(rng: np.random.Generator, case: str, *, static: bool) -> dict[str, A
     }
     if bit_depth == 8 and rng.random() < 0.5:
         cam["jpeg_quality"] = int(rng.integers(70, 96))
+    if not tir:
+        # a side camera is framed to show the whole element height with the block base
+        # above it (the root of each element is where its angle is measured from): at
+        # least _SIDE_VIEW_MM of height (the ice line lies at 3/4 of the height)
+        cam["mm_per_px"] = max(cam["mm_per_px"], _SIDE_VIEW_MM / cam["height_px"])
+        if case == "side follow":  # the block, 20 mm long, spans at most half the width
+            cam["width_px"] = max(cam["width_px"], math.ceil(2.0 * _BLOCK_MM / cam["mm_per_px"]))
     fixed_path = case in ("tir passing block", "side fixed")
     cam["rotation_deg"] = _u(rng, -8.0, 8.0) if fixed_path and rng.random() >= 0.7 else 0.0
     if tir and rng.random() >= 0.25:
@@ -177,6 +193,7 @@ def sample_spec(rng: int | np.random.Generator | None = None) -> tuple[FootageSp
     cam = _camera(rng, case, static=static)
     n_frames = int(rng.integers(40, 121))
     velocity = _u(rng, 0.5, 3.0)
+    cam["white_level"] /= cam["gain"]
     _timing(rng, cam, velocity, n_frames)
     fields: dict[str, Any] = {
         "preset": str(rng.choice(_PRESETS)),

@@ -34,7 +34,7 @@ from tir_contact.features import EDGE_MARGIN_PX, _element_records, _frame_rows
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup
 from tir_contact.segment import FrameContact, _box_and_counts, _label_box, segment_frame
-from tir_contact.side import ice_line_y_px, side_darkness, side_frame_features
+from tir_contact.side import ice_line_y_px, level_image, side_darkness, side_frame_features
 
 __all__ = ["FrameAnalyser", "FrameResult", "analyze_frame"]
 
@@ -217,8 +217,11 @@ class FrameAnalyser:
         """A side-view frame: element chords, deflection angles and tip deflections."""
         s = self.setup
         t = k / s.fps
+        if s.level_deg:  # the ice line along the rows: angles against the ice's normal
+            frame = level_image(frame, s.level_deg)
+            frame = np.where(s.level_valid, frame, np.median(frame))
         d = side_darkness(frame, contact_is=s.contact_is, reference=s.reference)
-        valid = s.reference.valid if s.reference is not None else None
+        valid = s.reference.valid if s.reference is not None else s.level_valid
         if self.ice_y_px is None and s.reference is not None:
             self.ice_y_px = ice_line_y_px(s.reference.image, contact_is=s.contact_is)
         feats = side_frame_features(d, s.layout, valid=valid, ice_y_px=self.ice_y_px)

@@ -12,17 +12,20 @@ percentile over frames):
    5, then a Gaussian of 1.5 px): noise, JPEG blocks and dust go, the illumination stays.
 2. Levels: the bright level is the 99.5th percentile; the black level the 0.5th percentile,
    but at most a tenth of the bright level (a frame lit all over has no black).
-3. Lit: brighter than the black level plus ``level_fraction`` (default 0.25) of the span
-   between black and bright. Contacts inside the zone are dark holes in it: a closing with
-   a disc of 3 % of the image and a hole fill put them back; bright specks smaller than
-   2 % of the frame are dropped; each region is replaced by its convex hull, which closes
-   the notches of contacts at the rim.
+3. Lit: brighter than the black level plus ``level_fraction`` (default 0.5: the half-light
+   line of the rim) of the span between black and the brightest level within 15 % of the
+   image (so a vignetted corner, dimmed slowly, stays lit while a rim, dimmed steeply, is
+   cut), and brighter than a quarter of the span between black and bright. Contacts inside
+   the zone are dark holes in it: a closing with a disc of 3 % of the image and a hole
+   fill put them back; bright specks smaller than 0.5 % of the frame are dropped; the rest
+   is replaced by its convex hull, which closes the notches of contacts at the rim and
+   joins the pieces a contact across the zone cuts.
 4. The rim is the band of ``rim_px`` (default 1 % of the image's long side) inside the
    zone's edge; contact regions that touch it are flagged, since part of them may lie
    where there is too little light to see them.
 
-Assumptions: the lit zone is one or a few convex regions (``convex=False`` drops this), each
-larger than 2 % of the frame; its light falls off smoothly.
+Assumptions: the lit zone is one convex region (``convex=False`` drops this: then one or a
+few regions, each larger than 0.5 % of the frame); its light falls off smoothly.
 """
 
 from __future__ import annotations
@@ -93,9 +96,10 @@ def _rim(mask: np.ndarray, rim_px: int) -> np.ndarray:
 def find_lit_zone(
     image: np.ndarray,
     *,
-    level_fraction: float = 0.25,
+    level_fraction: float = 0.5,
+    floor_fraction: float = 0.25,
     rim_px: int | None = None,
-    min_region_fraction: float = 0.02,
+    min_region_fraction: float = 0.005,
     convex: bool = True,
 ) -> LitZone:
     """Find the lit zone of a free-surface image (see the module notes for the method).
@@ -105,16 +109,20 @@ def find_lit_zone(
     image : (M, N) ndarray
         A frame or a per-pixel bright percentile over frames (dark contact).
     level_fraction : float
-        Lit means brighter than black + this fraction of (bright - black), in (0, 1).
+        Lit means brighter than black + this fraction of (nearby bright - black), in (0, 1):
+        0.5 puts the edge on the rim's half-light line.
+    floor_fraction : float
+        ... and brighter than black + this fraction of (bright - black) (the dark outside
+        far from the zone, where the nearby light is the outside's own).
     rim_px : int, optional
         Width of the rim band, px; default 1 % of the long side (at least 2 px).
     min_region_fraction : float
         Lit regions smaller than this fraction of the frame are dropped.
     convex : bool
-        Take each lit region's convex hull (a disc, ellipse or band lit through a prism is
-        convex; a contact at its rim would otherwise cut a notch into it). Pixels the hull
-        adds that are too dark to measure are left out later by the noise test
-        (:func:`tir_contact.reference.measurable`).
+        Take the convex hull of the lit regions (a disc, ellipse or band lit through a prism
+        is convex; a contact at its rim would otherwise cut a notch into it, one across it
+        would cut it in pieces). Pixels the hull adds that are too dark to measure are left
+        out later by the noise test (:func:`tir_contact.reference.measurable`).
 
     Returns
     -------
@@ -143,23 +151,29 @@ def find_lit_zone(
     black = min(float(np.percentile(small, 0.5)), 0.1 * bright)
     if not bright > black:
         return whole_frame((h, w))
-    lit = (small > black + level_fraction * (bright - black)).astype(np.uint8)
+    # against the light nearby (a dilation over 15 % of the image), so that vignetting,
+    # which dims a whole region slowly, is not taken for the rim, which dims it steeply
+    r = max(1, round(0.15 * max(small.shape)))
+    nearby = cv2.dilate(small, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2),
+                        borderType=cv2.BORDER_REPLICATE)
+    lit = ((small - black > level_fraction * (nearby - black))
+           & (small > black + floor_fraction * (bright - black))).astype(np.uint8)
     d = max(3, round(0.03 * max(small.shape)) | 1)
     lit = cv2.morphologyEx(lit, cv2.MORPH_CLOSE,
                            cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)),
                            borderType=cv2.BORDER_REPLICATE)
     lit = _fill_holes(lit)
     n, labels, stats, _ = cv2.connectedComponentsWithStats(lit, connectivity=8)
-    hull = np.zeros(lit.shape, np.uint8)
-    for k in range(1, n):
-        if stats[k, cv2.CC_STAT_AREA] >= min_region_fraction * lit.size:
-            region = (labels == k).astype(np.uint8)
-            if convex:  # contacts at the rim are notches in the zone: the hull closes them
-                points = cv2.findNonZero(region)
-                cv2.fillConvexPoly(hull, cv2.convexHull(points), 1)
-            else:
-                hull |= region
-    lit = hull.astype(np.float32)
+    keep = np.zeros(n, bool)
+    keep[1:] = stats[1:, cv2.CC_STAT_AREA] >= min_region_fraction * lit.size
+    lit = keep[labels].astype(np.uint8)
+    if convex and lit.any():
+        # a contact at the rim cuts a notch into the zone, a contact across it (a coin's
+        # rim across a lit band) cuts it in pieces: the hull of all pieces restores it
+        hull = np.zeros_like(lit)
+        cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
+        lit = hull
+    lit = lit.astype(np.float32)
     if scale < 1.0:
         lit = cv2.resize(lit, (w, h), interpolation=cv2.INTER_LINEAR)
     mask = lit >= 0.5

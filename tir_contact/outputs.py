@@ -291,8 +291,8 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
         what = "contact" if setup.view == "tir" else "block"
         out.append(f"no {what} found in any of the {len(frames)} frames analysed "
                    f"(reference: {setup.reference_method})")
-    if "contact_at_lit_rim" in frames and len(frames):
-        at_rim = int(frames["contact_at_lit_rim"].astype(bool).sum())
+    if setup.tir is not None and len(frames):
+        at_rim = int((frames["contact_at_lit_rim"] == True).sum())  # noqa: E712 (NaN: no)
         if at_rim:
             out.append(f"contact touches the rim of the lit zone in {at_rim} of {len(frames)} "
                        "frames: part of it may lie where too little light reaches to see it "

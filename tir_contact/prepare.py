@@ -25,7 +25,7 @@ from tir_contact.illumination import lit_zone_from_file
 from tir_contact.meta import META_FILENAME, clip_footage, read_meta_json
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
-from tir_contact.segment import estimate_contrast
+from tir_contact.side import ice_line_tilt_deg, ice_line_y_px, level_image
 
 __all__ = [
     "VideoSetup",
@@ -124,10 +124,24 @@ def _read_reference_file(path: str, shape: tuple[int, int], min_relative: float 
 
 def _frames_differ(samples: list[np.ndarray], reference: Reference, contact_is: str,
                    options: AnalysisOptions) -> bool:
-    """True when some sampled frame has a block-sized region darker than the reference."""
+    """True when some sampled side-view frame has a block-sized region darker than the
+    reference above the ice line (below it the ice moves under a following camera too)."""
+    h = reference.image.shape[0]
+    try:
+        ice = ice_line_y_px(reference.image, contact_is=contact_is)
+    except ValueError:
+        ice = float(h)
+    # above the ice line, less a margin for a tilted scene (8 deg over the width)
+    top = int(np.clip(ice - 0.15 * reference.image.shape[1], 0, h)) if math.isfinite(ice) else h
+    if top < 0.1 * h:
+        top = h
     norm = Normaliser(reference, contact_is)
     need = options.min_block_fraction * reference.image.size
-    return any(int((norm(f) > options.min_darkness).sum()) > need for f in samples)
+    rows, cols = slice(0, top), slice(None)
+    kernel = np.ones((3, 3), np.uint8)  # an opening: isolated noise pixels are no block
+    return any(cv2.countNonZero(cv2.morphologyEx(
+        (norm.region(f, rows, cols) > options.min_darkness).astype(np.uint8),
+        cv2.MORPH_OPEN, kernel)) > need for f in samples)
 
 
 @dataclass
@@ -161,6 +175,12 @@ class VideoSetup:
         Lit zone, free surface and noise of a TIR video.
     threshold : float
         Darkness threshold of contact (TIR; NaN for the side view).
+    level_deg : float
+        Side view: the ice line's tilt against the image rows, deg; each frame (and the
+        reference) is turned by it about the image centre before its features are found,
+        so angles are against the ice surface's normal (0 when under 0.1 deg).
+    level_valid : ndarray of bool or None
+        Side view turned level: the pixels that come from inside the frame.
     """
     meta: dict[str, Any]
     view: str
@@ -181,6 +201,8 @@ class VideoSetup:
     camera: str = "fixed"  # "fixed": the block passes the camera; "follows": it stays in view
     tir: TirReference | None = None  # lit zone, free surface and noise of a TIR video
     threshold: float = math.nan  # darkness threshold of contact (TIR)
+    level_deg: float = 0.0  # side view: tilt of the ice line; frames are turned level by it
+    level_valid: np.ndarray | None = None  # side view: pixels inside the frame once turned
 
 
 def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
@@ -263,12 +285,14 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
             reference, method = None, "per-frame background (no frame without the block)"
     else:
         reference, method = None, f"per-frame background ({len(samples)} frame(s) sampled)"
+    level_deg, level_valid = 0.0, None
+    if view == "side":
+        reference, level_deg, level_valid = _level_side(samples, reference, contact_is)
+        if level_deg:
+            method += f", turned level by {level_deg:+.2f} deg"
     contrast = options.contrast
-    if contrast is None and view == "tir":
-        norm = Normaliser(reference, contact_is)
-        values = [estimate_contrast(norm(f), min_darkness=options.min_darkness) for f in samples]
-        finite = [v for v in values if np.isfinite(v)]
-        contrast = float(np.median(finite)) if finite else None
+    if contrast is None and tref is not None:
+        contrast = _contrast(samples, tref, contact_is, options)
     threshold = math.nan
     if tref is not None:  # pixels too noisy for the threshold are not measured
         threshold = _threshold(contrast, options, tref.camera)
@@ -279,7 +303,47 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         "fixed" if reference is not None else "follows")
     return VideoSetup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
                   reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
-                  grey_range, camera, tref, threshold)
+                  grey_range, camera, tref, threshold, level_deg, level_valid)
+
+
+#: Side views whose ice line is tilted by less than this (deg) are not turned.
+MIN_LEVEL_DEG = 0.1
+
+
+def _level_side(samples: list[np.ndarray], reference: Reference | None,
+                contact_is: str) -> tuple[Reference | None, float, np.ndarray | None]:
+    """The side view's tilt (:func:`tir_contact.side.ice_line_tilt_deg` on the reference,
+    or on the median of the samples), and the reference turned level by it."""
+    image = reference.image if reference is not None else np.median(
+        np.stack(samples[:9]).astype(np.float32), axis=0)
+    tilt = ice_line_tilt_deg(image, contact_is=contact_is)
+    if not math.isfinite(tilt) or abs(tilt) < MIN_LEVEL_DEG:
+        return reference, 0.0, None
+    inside = level_image(np.ones(image.shape, np.float32), tilt) > 0.999
+    if reference is not None:
+        turned = level_image(reference.image, tilt, border=math.nan)
+        turned = np.where(np.isfinite(turned), turned, 0.0)
+        reference = Reference(turned.astype(np.float64), reference.valid & inside,
+                              reference.method, reference.n_frames)
+    return reference, tilt, inside
+
+
+def _contrast(samples: list[np.ndarray], tref: TirReference, contact_is: str,
+              options: AnalysisOptions) -> float | None:
+    """Contact contrast: the median over the samples of each one's median darkness of the
+    pixels surely in contact, darker than ``min_darkness`` and than ``noise_sigmas`` times
+    their darkness noise (on a dim free surface, bright contact on a dark one above all,
+    noise alone passes ``min_darkness``)."""
+    norm = Normaliser(tref.reference, contact_is)
+    sure = np.maximum(np.float32(options.min_darkness), np.float32(options.noise_sigmas)
+                      * tref.noise.sigma_darkness(tref.reference.image))
+    values = []
+    for f in samples:
+        d = norm(f)
+        dark = d[d > sure]
+        values.append(float(np.median(dark)) if dark.size else math.nan)
+    finite = [v for v in values if np.isfinite(v)]
+    return float(np.median(finite)) if finite else None
 
 
 def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:

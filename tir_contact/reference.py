@@ -17,7 +17,10 @@ Method of :func:`free_surface` (no contact size known in advance):
    along its edge, as a ring, and the fill makes it whole.
 4. The disc must be wider than every candidate: when the widest candidate (twice its
    largest inscribed radius) needs more, the disc grows to 1.5 times that plus 10 px and
-   steps 2-4 repeat (at most 4 times).
+   steps 2-4 repeat. A contact wider than the disc that reaches the image border (a block
+   larger than the view) shows only as its edges, which no hole fill closes: the disc is
+   also doubled while that finds clearly more candidate area (over 1.2 times plus 1 % of
+   the image).
 5. The free surface is the smoothed image itself away from the candidates (so a soft rim
    or a speck of dust stays where it is). Over each candidate and a margin of 6 px around
    it, a quadratic surface fitted to a ring of free surface around it continues the light
@@ -56,6 +59,9 @@ _WORK_PX = 256
 SMOOTH_SIGMA_PX = 1.5
 #: Margin (px) around the contact candidates where the closing replaces the image.
 MARGIN_PX = 6
+#: Gap (px) between a contact and the free-surface ring fitted around it: the contact's
+#: blurred edge stays out of the fit, a sipe of a few px between two elements stays in.
+RING_GAP_PX = 2
 
 
 @dataclass(frozen=True)
@@ -162,7 +168,9 @@ def free_surface(
     lit_mask = np.ones(img.shape, bool) if lit is None else np.asarray(lit, bool)
     smooth = cv2.GaussianBlur(work, (0, 0), SMOOTH_SIGMA_PX, borderType=cv2.BORDER_REPLICATE)
     size = max(3, int(size_px) | 1)
-    for _ in range(4):
+    largest = 2 * max(img.shape) + 1
+
+    def candidates(size: int) -> tuple[np.ndarray, np.ndarray, float]:
         closed = _closing(smooth, size)
         with np.errstate(divide="ignore", invalid="ignore"):
             d = 1.0 - smooth / np.maximum(closed, 1e-6)
@@ -172,14 +180,31 @@ def free_surface(
             dist = cv2.distanceTransform(cand.astype(np.uint8), cv2.DIST_L2, 5)
             # no free pixel at all (black footage): the distance is huge; cap at the image
             widest = min(2.0 * float(dist.max()), float(max(img.shape)))
-        need = math.ceil(1.5 * widest + 10) | 1
-        if not grow or need <= size:
+        return closed, cand, widest
+
+    closed, cand, widest = candidates(size)
+    for _ in range(6):
+        if not grow or size >= largest:
             break
-        size = need
+        need = math.ceil(1.5 * widest + 10) | 1
+        if need > size:  # a candidate as wide as the disc: grow the disc past it
+            size = min(need, largest)
+            closed, cand, widest = candidates(size)
+            continue
+        # A contact wider than the disc shows only its edges, and where it reaches the
+        # image border (a block larger than the view) no hole fill makes it whole: a
+        # disc twice as wide finds clearly more candidate area then.
+        wider = min(2 * size + 1, largest)
+        trial = candidates(wider)
+        if trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size:
+            break
+        size, (closed, cand, widest) = wider, trial
     margin = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
         cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
     surface = np.where(margin, closed, smooth).astype(np.float32)
-    _fit_over_contacts(surface, smooth, margin, lit_mask, widest)
+    near = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (2 * RING_GAP_PX + 1,) * 2)).astype(bool)
+    _fit_over_contacts(surface, smooth, margin, near, lit_mask, widest)
     if contact_is == "bright":
         surface = (top - surface).astype(np.float32)
     return FreeSurface(surface, cand, size, widest)
@@ -191,7 +216,7 @@ MAX_FITTED = 16
 
 
 def _fit_over_contacts(surface: np.ndarray, smooth: np.ndarray, margin: np.ndarray,
-                       lit: np.ndarray, widest: float) -> None:
+                       near: np.ndarray, lit: np.ndarray, widest: float) -> None:
     """Replace the closing over each contact by a quadratic fitted around it (in place).
 
     A closing cannot restore a light maximum that the contact covers (a vignetted centre):
@@ -211,7 +236,7 @@ def _fit_over_contacts(surface: np.ndarray, smooth: np.ndarray, margin: np.ndarr
         r0, r1 = max(0, y0 - ring_px), min(h, y0 + bh + ring_px)
         c0, c1 = max(0, x0 - ring_px), min(w, x0 + bw + ring_px)
         inside = labels[r0:r1, c0:c1] == k
-        ring = (cv2.dilate(inside.astype(np.uint8), kernel).astype(bool) & ~margin[r0:r1, c0:c1]
+        ring = (cv2.dilate(inside.astype(np.uint8), kernel).astype(bool) & ~near[r0:r1, c0:c1]
                 & lit[r0:r1, c0:c1])
         if ring.sum() < 30:
             continue
@@ -334,6 +359,10 @@ def noise_model(residuals: list[np.ndarray], levels: np.ndarray,
 # the reference of one TIR video
 
 
+#: Bright contact: the free surface is taken as at least this fraction of the contact's
+#: level (the largest 99.9th percentile of a sample).
+BRIGHT_FLOOR = 0.05
+
 #: Camera modes: the block passes a fixed camera, or the contact stays in view (a camera that
 #: follows the block, a static test, a single photograph).
 CAMERA_MODES = ("fixed", "follows")
@@ -379,7 +408,7 @@ def _median(frames: list[np.ndarray]) -> np.ndarray:
 
 
 def _moving(samples: list[np.ndarray], base: np.ndarray, lit: np.ndarray,
-            min_darkness: float, min_fraction: float) -> bool:
+            min_darkness: float, min_fraction: float, contact_is: str = "dark") -> bool:
     """True when some sampled frame differs from the others by a block-sized darker region.
 
     Each frame is compared with the pixel-wise median of the samples, as darkness against
@@ -390,8 +419,10 @@ def _moving(samples: list[np.ndarray], base: np.ndarray, lit: np.ndarray,
     inv = np.where(lit, 1.0 / np.maximum(base, 1e-6), 0.0).astype(np.float32)
     need = max(16.0, min_fraction * float(lit.sum()))
     kernel = np.ones((3, 3), np.uint8)
+    sign = np.float32(1.0 if contact_is == "dark" else -1.0)
     for f in samples:
-        diff = ((median - np.asarray(f, np.float32)) * inv > min_darkness).astype(np.uint8)
+        diff = ((median - np.asarray(f, np.float32)) * inv * sign
+                > min_darkness).astype(np.uint8)
         if cv2.countNonZero(cv2.morphologyEx(diff, cv2.MORPH_OPEN, kernel)) > need:
             return True
     return False
@@ -477,8 +508,8 @@ def tir_reference(
     else:
         mode = camera
         if mode == "auto":
-            mode = ("fixed" if len(frames) >= 2 and _moving(frames, bright, mask, min_darkness,
-                                                             min_block_fraction)
+            mode = ("fixed" if len(frames) >= 2 and _moving(
+                frames, bright, mask, min_darkness, min_block_fraction, contact_is)
                     else "follows")
         cand = np.zeros(shape, bool)
         if mode == "fixed" and len(frames) >= 5:
@@ -493,6 +524,13 @@ def tir_reference(
             free, cand = fs.image, fs.candidates
             method = (f"fitted free surface ({len(frames)} frame(s); closing "
                       f"{fs.size_px} px)")
+    if contact_is == "bright":
+        # Bright contact on a dark surface: the surface may carry almost no light (a dark
+        # field, quantised to 0-1 grey values), and a darkness against it is noise. Below
+        # a twentieth of the bright contact's level the surface is taken as that level:
+        # the contact is then found by its grey value above the surface.
+        level = max(float(np.percentile(f[::2, ::2], 99.9)) for f in frames)
+        free = np.maximum(free, np.float32(BRIGHT_FLOOR * level))
     away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
     noise = noise_model(_residuals(frames, free), free, away)
     ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))

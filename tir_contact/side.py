@@ -106,6 +106,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Protocol
 
+import cv2
 import numpy as np
 import pandas as pd
 
@@ -298,6 +299,60 @@ def ice_line_y_px(image: np.ndarray, *, contact_is: str = "dark") -> float:
     _check_contact_is(contact_is)
     img = _check_image("image", image).astype(np.float32)
     return _step_crossing(_row_levels(img, contact_is))
+
+
+def ice_line_tilt_deg(image: np.ndarray, *, contact_is: str = "dark",
+                      n_strips: int = 16, tolerance_px: float = 1.5) -> float:
+    """Tilt of the ice surface line against the image rows, deg (positive: falling to the
+    right, i.e. the scene turned from +x towards +y).
+
+    The image is cut into `n_strips` column strips; in each, the ice line is found as in
+    :func:`ice_line_y_px`. The line through two strips' rows that the most strips agree
+    with (within `tolerance_px`) is refined by least squares over those strips, so strips
+    that the block covers (where the strongest step is the block's top) do not count.
+
+    Returns
+    -------
+    float
+        The tilt, deg; NaN when fewer than 4 strips agree.
+
+    Examples
+    --------
+    >>> yy, xx = np.mgrid[:120, :300].astype(float)
+    >>> line = 80 + np.tan(np.radians(3.0)) * (xx - 150)   # area-sampled step: 200 to 120
+    >>> img = 200.0 - 80.0 * np.clip(yy + 0.5 - line, 0.0, 1.0)
+    >>> round(ice_line_tilt_deg(img), 1)
+    3.0
+    """
+    _check_contact_is(contact_is)
+    img = _check_image("image", image).astype(np.float32)
+    w = img.shape[1]
+    edges = np.linspace(0, w, n_strips + 1).round().astype(int)
+    xs, ys = [], []
+    for a, b in itertools.pairwise(edges):
+        if b - a >= 2:
+            xs.append(0.5 * (a + b - 1))
+            ys.append(_step_crossing(_row_levels(img[:, a:b], contact_is)))
+    x, y = np.array(xs), np.array(ys)
+    best = np.zeros(len(x), bool)
+    for i, j in itertools.combinations(range(len(x)), 2):
+        slope = (y[j] - y[i]) / (x[j] - x[i])
+        inl = np.abs(y - (y[i] + slope * (x - x[i]))) <= tolerance_px
+        if inl.sum() > best.sum():
+            best = inl
+    if best.sum() < 4:
+        return math.nan
+    slope = np.polyfit(x[best], y[best], 1)[0]
+    return float(np.degrees(np.arctan(slope)))
+
+
+def level_image(image: np.ndarray, tilt_deg: float, *, border: float = 0.0) -> np.ndarray:
+    """`image` turned by `tilt_deg` about its centre so that a line of that tilt becomes a
+    row (float32; pixels from outside the image take `border`)."""
+    h, w = image.shape
+    m = cv2.getRotationMatrix2D(((w - 1) / 2.0, (h - 1) / 2.0), tilt_deg, 1.0)
+    return cv2.warpAffine(np.asarray(image, np.float32), m, (w, h), flags=cv2.INTER_LINEAR,
+                          borderMode=cv2.BORDER_CONSTANT, borderValue=float(border))
 
 
 def _illumination_shape(img: np.ndarray, levels: np.ndarray) -> np.ndarray:

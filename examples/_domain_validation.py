@@ -1,0 +1,119 @@
+"""Random-domain validation of the contact pipeline (used by ``validate_pipeline.py``).
+
+Each clip is drawn by :func:`synthetic.domain.sample_spec`, rendered to a temporary folder,
+analysed as a user would (:func:`tir_contact.analyze.analyze_video`) and compared with its
+ground truth. Per clip:
+
+* ``area_err_pct`` (TIR): sum over frames of |measured - true| contact area over the sum
+  of the true area (frames with and without contact alike, so a frame at the edge of the
+  pass with 0.1 mm2 of contact does not dominate), in %;
+* ``outside_lit_mm2`` (TIR): contact the pipeline counted outside the true lit zone
+  (``lit_mask.png`` of the renderer: where the light exceeds half of its span), summed over
+  frames, and ``outside_lit_pct`` of the measured area;
+* ``length_err_mm`` (TIR block): median |error| of the element contact length, elements
+  wholly in the image;
+* ``angle_err_deg`` (side view): median |error| of the element deflection angle.
+"""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pandas as pd
+
+from synthetic.footage import FootageSpec, render_footage
+from tir_contact.analyze import AnalysisOptions, FrameAnalyser, analyze_video, prepare_video
+from tir_contact.io import open_footage
+
+OPTIONS = AnalysisOptions(overlay_frames=0, parquet=False, regions="never")
+
+
+def _outside_lit(clip: Path, setup_path: Path, truth_lit: np.ndarray) -> tuple[float, float]:
+    """Contact area (mm2, summed over frames) outside the true lit zone, and the total."""
+    with open_footage(setup_path) as reader:
+        setup = prepare_video(reader, setup_path, None, OPTIONS)
+        analyse = FrameAnalyser(setup, OPTIONS)
+        outside = total = 0
+        for i in range(len(reader)):
+            r = analyse(int(setup.numbers[i]), reader.get_frame(i))
+            mask = r.detail.mask
+            outside += int(np.count_nonzero(mask & ~truth_lit))
+            total += int(np.count_nonzero(mask))
+    px2 = setup.mm_per_px ** 2
+    return outside * px2, total * px2
+
+
+def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
+    """Render, analyse and compare one clip; the footage is deleted afterwards."""
+    work = Path(tempfile.mkdtemp(prefix="tir-validate-"))
+    try:
+        clip = render_footage(spec, work / "clip", progress=False)
+        res = analyze_video(clip, options=OPTIONS)
+        truth = pd.read_csv(clip / "ground_truth.csv")
+        row = {"clip": index, "case": case, "preset": spec.preset if spec.scene == "block"
+               else spec.scene, "real_contact": spec.real_contact,
+               "lit_shape": spec.camera.lit_shape, "lit_fraction": spec.camera.lit_fraction,
+               "bit_depth": spec.camera.bit_depth, "jpeg": spec.camera.jpeg_quality,
+               "white_level": spec.camera.white_level, "camera_found": res.summary["camera"],
+               "warnings": "; ".join(res.summary["warnings"])}
+        if spec.view == "tir":
+            row.update(_compare_tir(res, truth, clip))
+        else:
+            row.update(_compare_side(res, truth))
+        return row
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def _compare_tir(res, truth: pd.DataFrame, clip: Path) -> dict:
+    block = truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
+    measured = res.frames.set_index("frame")["contact_area_mm2"].reindex(block.index)
+    true_sum = float(block.sum())
+    out = {"true_area_mm2": true_sum / max(len(block), 1),
+           "area_err_pct": 100 * float((measured - block).abs().sum()) / true_sum
+           if true_sum > 0 else np.nan}
+    lit_file = clip / "lit_mask.png"
+    lit = (cv2.imread(str(lit_file), cv2.IMREAD_GRAYSCALE) > 0 if lit_file.exists()
+           else None)
+    if lit is not None:
+        from tir_contact.analyze import resolve_footage
+
+        outside, total = _outside_lit(clip, resolve_footage(clip)[0], lit)
+        out["outside_lit_mm2"] = outside
+        out["outside_lit_pct"] = 100 * outside / total if total else 0.0
+    el_truth = truth[(truth.element >= 0) & truth.in_view & (truth.contact_length_mm > 0)]
+    if len(el_truth) and len(res.elements):
+        merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
+        whole = merged[np.isfinite(merged.liftoff_mm)]
+        if len(whole):
+            out["length_err_mm"] = float(
+                (whole.contact_length_mm - whole.contact_length_mm_t).abs().median())
+    return out
+
+
+def _compare_side(res, truth: pd.DataFrame) -> dict:
+    el_truth = truth[(truth.element >= 0) & truth.in_view]
+    merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
+    err = (merged.deflection_angle_deg - merged.deflection_angle_deg_t).abs()
+    return {"angle_err_deg": float(np.nanmedian(err)) if err.notna().any() else np.nan,
+            "angles_found_pct": 100 * float(err.notna().mean()) if len(err) else 0.0}
+
+
+def summarise(table: pd.DataFrame) -> pd.DataFrame:
+    """Median and 95th percentile of each error per case class, and over all clips."""
+    metrics = [m for m in ("area_err_pct", "outside_lit_pct", "length_err_mm",
+                           "angle_err_deg") if m in table]
+    rows = []
+    for case, group in [*table.groupby("case", sort=True), ("all", table)]:
+        row = {"case": case, "clips": len(group)}
+        for m in metrics:
+            values = group[m].dropna()
+            if len(values):
+                row[f"{m} median"] = float(values.median())
+                row[f"{m} p95"] = float(values.quantile(0.95))
+        rows.append(row)
+    return pd.DataFrame(rows)
