@@ -362,3 +362,25 @@ def test_footage_without_renderer_fails_with_a_message(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "synthetic.footage", None)  # import raises ImportError
     assert main(["synth", "footage", "--out", "d"]) == 1
     assert "synthetic.footage" in capsys.readouterr().err
+
+
+# -- footage with the look of real footage ---------------------------------------------------
+def test_footage_real_look_options_reach_the_renderer(tmp_path, capsys):
+    """The real-footage options render what the library renders for the same spec."""
+    from synthetic.footage import CameraSettings, FootageSpec, lit_mask, render_footage
+
+    out = tmp_path / "cli"
+    argv = ["synth", "footage", "--out", str(out), "--frames", "2", "--scene", "round_pad",
+            "--lit-shape", "disc", "--lit-fraction", "0.3", "--white-level", "0.4",
+            "--jpeg-quality", "85", "--real-contact", "patchy", "--width", "160",
+            "--height", "128", "--mm-per-px", "0.05"]
+    assert main(argv) == 0
+    assert "(jpg)" in capsys.readouterr().out
+    spec = FootageSpec(
+        scene="round_pad", real_contact="patchy", n_frames=2, seed=1,
+        camera=CameraSettings(lit_shape="disc", lit_fraction=0.3, white_level=0.4,
+                              jpeg_quality=85, width_px=160, height_px=128, mm_per_px=0.05))
+    ref = render_footage(spec, tmp_path / "lib", fmt="jpg", progress=False)
+    assert all_bytes(out / "frames") == all_bytes(ref / "frames")
+    assert (out / "lit_mask.png").is_file()
+    assert lit_mask(spec).mean() == pytest.approx(0.3, abs=0.01)  # the requested share

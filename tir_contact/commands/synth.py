@@ -37,7 +37,7 @@ from tir_contact.commands._types import positive_number as _positive
 __all__ = ["add_parser", "footage_kwargs", "measurement_effects", "run"]
 
 _KINDS = ("steady", "transient", "raw")
-_FORMATS = ("png", "tiff", "avi", "multitiff")
+_FORMATS = ("png", "jpg", "tiff", "avi", "multitiff")
 # CLI option dest -> CameraSettings field of synthetic.footage
 _CAMERA_FIELDS = {
     "fps": "fps",
@@ -49,6 +49,12 @@ _CAMERA_FIELDS = {
     "gain": "gain",
     "read_noise": "read_noise_dn",
     "rotation": "rotation_deg",
+    "white_level": "white_level",
+    "vignetting": "vignetting",
+    "lit_shape": "lit_shape",
+    "lit_fraction": "lit_fraction",
+    "lit_rim": "lit_rim_mm",
+    "jpeg_quality": "jpeg_quality",
 }
 # CLI option dest -> FootageSpec field of synthetic.footage
 _SPEC_FIELDS = {
@@ -63,6 +69,9 @@ _SPEC_FIELDS = {
     "sliding_direction": "sliding_direction",
     "contact_is": "contact_is",
     "seed": "seed",
+    "scene": "scene",
+    "real_contact": "real_contact",
+    "follow_camera": "follow_camera",
 }
 
 
@@ -156,6 +165,25 @@ def _add_footage(sub: Any) -> None:
     noise.add_argument("--read-noise", type=_non_negative, metavar="DN", help="read noise std, DN")
     noise.add_argument("--no-noise", action="store_true", help="no shot noise and no read noise")
     cam.add_argument("--rotation", type=_number, metavar="DEG", help="image rotation, degrees")
+    real = p.add_argument_group("real-footage look (default: a lit frame, strong clean signal)")
+    real.add_argument("--white-level", type=_positive, metavar="F",
+                      help="free-surface level, fraction of full scale (0.4: peak grey ~100)")
+    real.add_argument("--vignetting", type=_non_negative, metavar="F",
+                      help="light fall-off in the corners, fraction in [0, 1)")
+    real.add_argument("--lit-shape", choices=("full", "disc", "ellipse", "band"),
+                      help="shape of the zone TIR light reaches; dark outside")
+    real.add_argument("--lit-fraction", type=_positive, metavar="F",
+                      help="share of the frame lit, in [0.2, 1]")
+    real.add_argument("--lit-rim", type=_non_negative, metavar="MM",
+                      help="width of the lit zone's soft rim, mm")
+    real.add_argument("--jpeg-quality", type=_positive_int, metavar="Q",
+                      help="JPEG-compress the frames (8 bit; 1-100)")
+    real.add_argument("--scene", choices=("block", "round_pad", "coin", "three_point"),
+                      help="a sliding block (default) or a static contact")
+    real.add_argument("--real-contact", choices=("solid", "patchy"),
+                      help="patchy: micro-contact patches with the friction model's share")
+    real.add_argument("--follow-camera", action="store_const", const=True, default=None,
+                      help="the camera moves with the block")
     cond = p.add_argument_group("conditions (default: the renderer's)")
     cond.add_argument("--pressure", type=_positive, metavar="BAR", help="nominal pressure, bar")
     cond.add_argument("--temperature", type=_number, metavar="C", help="ice temperature, degC")
@@ -289,11 +317,12 @@ def _run_footage(args: argparse.Namespace) -> int:
     camera, spec_kwargs = footage_kwargs(args)
     try:
         spec = FootageSpec(**spec_kwargs, camera=CameraSettings(**camera))
-        path = render_footage(spec, args.out, fmt=args.format)
+        fmt = "jpg" if args.jpeg_quality is not None else args.format
+        path = render_footage(spec, args.out, fmt=fmt)
     except ValueError as exc:
         print(f"tir-contact synth footage: error: {exc}", file=sys.stderr)
         return 1
-    print(f"footage: rendered {args.frames} frames ({args.format}) of {args.preset} to {path}")
+    print(f"footage: rendered {args.frames} frames ({fmt}) of {args.preset} to {path}")
     return 0
 
 
