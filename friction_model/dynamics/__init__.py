@@ -44,6 +44,7 @@ from friction_model.dynamics.rigid import (
     simulate_block_dynamics,
     simulate_sdof,
 )
+from friction_model.dynamics.stick_slip import predict_stick_slip
 from friction_model.dynamics.sweep import (
     dry_wet_point,
     parameter_grid,
@@ -84,6 +85,7 @@ __all__ = [
     "lever_arm",
     "natural_frequencies_timoshenko",
     "parameter_grid",
+    "predict_stick_slip",
     "preload_for_normal_force",
     "reference_contact_ratios",
     "run_sweep",
