@@ -56,6 +56,12 @@ def test_every_model_defaults_to_the_one_rubber():
     assert EulerBernoulliParams().youngs_modulus_Pa == E0
     assert BlockParams().loss_factor == REFERENCE_COMPOUND.loss_factor
     assert BlockParams().density_kg_m3 == REFERENCE_COMPOUND.density_kg_m3
+    t = TimoshenkoParams()
+    assert t.E_Pa == E0 and t.density_kg_m3 == REFERENCE_COMPOUND.density_kg_m3
+    # Kelvin-Voigt damping with the compound's loss factor at 1 kHz: tan(delta) = 2 pi f k_i
+    assert 2 * math.pi * 1000.0 * t.kelvin_voigt_s == pytest.approx(0.2, rel=1e-14)
+    # penalty stiffness: the element's compression stiffness E w l / d
+    assert t.contact_stiffness_N_m == pytest.approx(E0 * 80e-3 * 4.55e-3 / 6e-3, rel=1e-14)
 
 
 def _element(**kw):

@@ -99,6 +99,7 @@ import scipy.sparse.linalg
 from scipy.integrate import BDF, Radau
 from scipy.optimize import brentq
 
+from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.dynamics._common import (
     Profile,
     SimulationError,
@@ -132,6 +133,8 @@ __all__ = [
     "static_tip_deflection",
 ]
 
+#: Frequency at which the default Kelvin-Voigt damping has the compound's loss factor, Hz.
+_KV_REFERENCE_HZ = 1000.0
 #: Lever arm reached at large tilt in Fig. 5.12 a (e ~ 1.9 mm beyond 40 deg), m.
 LEVER_ARM_MAX_FIG_5_12_M = 1.9e-3
 #: Minimum ratio height / length of a beam-like element (below it the element is a pad).
@@ -180,13 +183,17 @@ class TimoshenkoParams:
     Parameters
     ----------
     E_Pa : float
-        Young's modulus E, Pa, in [1e3, 1e12].
+        Young's modulus E, Pa, in [1e3, 1e12]; default E0 of the one rubber
+        (:data:`friction_model.compound.REFERENCE_COMPOUND`, Shore A 60, 3.61 MPa).
     density_kg_m3 : float
-        Rubber density rho, kg/m^3, in [100, 30000].
+        Rubber density rho, kg/m^3, in [100, 30000]; default the compound's.
     kelvin_voigt_s : float
-        Kelvin-Voigt damping k_i of Eq. 5.25/5.26, s, in [0, 1].
-    contact_stiffness_N_m : float
-        Penalty stiffness c_N of the ice contact (Eq. 5.1), N/m, in [1, 1e12].
+        Kelvin-Voigt damping k_i of Eq. 5.25/5.26, s, in [0, 1]; default the compound's
+        loss factor at 1 kHz (the order of the element's first mode): tan(delta) / (2 pi
+        1 kHz) = 32 us.
+    contact_stiffness_N_m : float, optional
+        Penalty stiffness c_N of the ice contact (Eq. 5.1), N/m, in [1, 1e12], used with a
+        preload distance; default E A / d, the element's compression stiffness.
     height_m : float
         Element height d (sipe depth, beam length), m; default 6 mm as in section 5.3.
         Must be >= 1e-4 m and >= 0.5 length_m (a beam, not a pad).
@@ -238,10 +245,10 @@ class TimoshenkoParams:
     describes.
     """
 
-    E_Pa: float
-    density_kg_m3: float
-    kelvin_voigt_s: float
-    contact_stiffness_N_m: float
+    E_Pa: float = REFERENCE_COMPOUND.E0_Pa
+    density_kg_m3: float = REFERENCE_COMPOUND.density_kg_m3
+    kelvin_voigt_s: float = REFERENCE_COMPOUND.kelvin_voigt_s(_KV_REFERENCE_HZ)
+    contact_stiffness_N_m: float | None = None
     height_m: float = 6e-3
     length_m: float = 4.55e-3
     width_m: float = 80e-3
@@ -285,6 +292,14 @@ class TimoshenkoParams:
                 unit="s",
             ),
         )
+        if self.contact_stiffness_N_m is None:
+            put(
+                "contact_stiffness_N_m",
+                float(self.E_Pa)
+                * float(self.width_m)
+                * float(self.length_m)
+                / float(self.height_m),
+            )
         put(
             "contact_stiffness_N_m",
             check_in_range(
