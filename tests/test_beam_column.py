@@ -234,3 +234,36 @@ def test_euler_bernoulli_under_constant_force_matches_the_closed_form():
     # modal truncation: 9 %, 0.4 %, 0.05 % for 1, 3, 6 modes (measured); it must fall
     assert errors[0] > errors[1] > errors[2]
     assert errors[2] < 2e-3
+
+
+def test_thesis_literal_option_reproduces_the_audited_steady_state():
+    # The printed Eq. 5.25/5.26 with E = 1.05 MPa and a preload distance for 91 N: the
+    # independent audit's static solver gave tip 1.629 mm, bending 8.69 deg. Steady state of
+    # a BDF run at rtol 1e-5 on 40 nodes: 1e-3 covers the grid (4e-4) and the solver.
+    from friction_model.calibration import table_4_6_targets
+    from friction_model.dynamics import velocity_ramp
+    from friction_model.dynamics.timoshenko import preload_for_normal_force, simulate_timoshenko
+    from friction_model.laws import ArctanExponentialLaw, fit_law
+
+    rows = table_4_6_targets()
+    rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
+    law = fit_law(
+        ArctanExponentialLaw, rows["velocity_mps"], rows["mu_target"], fixed={"k4": 50.0}
+    ).law
+    E = 1.05e6
+    p = params(
+        E_Pa=E,
+        kelvin_voigt_s=1e-3,
+        beam_column="thesis_literal",
+        contact_stiffness_N_m=E * 4.55e-3 * 80e-3 / 6e-3,
+    )
+    res = simulate_timoshenko(
+        p,
+        velocity=velocity_ramp(0.0, 1.0, 0.0, 0.01),
+        friction=law,
+        t_end_s=0.2,
+        preload=preload_for_normal_force(p, 2.5e5 * p.area_m2),
+    )
+    last = res.data.iloc[-1]
+    assert last["tip_deflection_mm"] == pytest.approx(1.629, rel=1e-3)
+    assert last["bending_angle_deg"] == pytest.approx(8.69, rel=1e-3)
