@@ -30,6 +30,7 @@ logger = logging.getLogger(__name__)
 
 __all__ = [
     "K4_INTERVAL_S_PER_M",
+    "PREDICTED_EXTRA_MODULUS_HZ",
     "PREDICTED_STICK_SLIP_HZ",
     "loaded_first_frequency_Hz",
     "predict_stick_slip",
@@ -41,6 +42,18 @@ K4_INTERVAL_S_PER_M = (20.0, 200.0)
 #: Frozen :func:`predict_stick_slip` limit-cycle frequencies, Hz, at k4 = 20, 50, 200 s/m
 #: (tolerance of the method: ~5 Hz, from rtol 1e-5 and the 30 ms counting window).
 PREDICTED_STICK_SLIP_HZ = {20.0: 857.0, 50.0: 826.0, 200.0: 793.0}
+#: Frozen :func:`predict_stick_slip` limit-cycle frequencies, Hz, at k4 = 50 s/m with an extra
+#: frequency stiffening of strength s on top of the compound's own E(f) (the discrepancy
+#: candidate evaluated on the loaded element; same method tolerance).
+PREDICTED_EXTRA_MODULUS_HZ = {
+    0.0: 826.0,
+    0.5: 1190.9,
+    1.0: 1547.0,
+    1.5: 1839.9,
+    2.0: 2095.1,
+    3.0: 2541.1,
+    5.0: 3285.9,
+}
 _PRESSURE_PA = 2.5e5
 _V0_MPS = 1.0
 
@@ -85,6 +98,7 @@ def predict_stick_slip(
     *,
     k4_s_per_m: float = K4_CENTRAL_S_PER_M,
     compound: Compound = REFERENCE_COMPOUND,
+    extra_modulus_strength: float = 0.0,
     t_end_s: float = 0.08,
     window_s: float = 0.03,
 ) -> dict[str, float]:
@@ -96,6 +110,10 @@ def predict_stick_slip(
         Zero-crossing steepness k4 of Eq. 5.24, s/m.
     compound : Compound
         The rubber.
+    extra_modulus_strength : float
+        Strength s of an additional frequency stiffening on top of the compound's own,
+        E(f) = E_compound(f) (1 + s alpha log10(f / f0)) (the discrepancy candidate
+        ``frequency_dependent_modulus``, :func:`friction_model.element_step.modulus_ratio`).
     t_end_s, window_s : float
         Simulated time and the final window analysed, s.
 
@@ -108,19 +126,24 @@ def predict_stick_slip(
     """
     from friction_model.dynamics._common import velocity_ramp
     from friction_model.dynamics.timoshenko import simulate_timoshenko
+    from friction_model.element_step import modulus_ratio
 
     base = _element(compound)
     N = _PRESSURE_PA * base.area_m2
+    s_extra = float(extra_modulus_strength)
+
+    def modulus(f: float) -> float:
+        extra = float(modulus_ratio(f, strength=s_extra)) if s_extra > 0 else 1.0
+        return float(compound.storage_modulus_Pa(f)) * extra
+
     f = 500.0
     for _ in range(200):
-        f_new = loaded_first_frequency_Hz(
-            replace(base, E_Pa=float(compound.storage_modulus_Pa(f))), N
-        )
+        f_new = loaded_first_frequency_Hz(replace(base, E_Pa=modulus(f)), N)
         if abs(f_new - f) < 1e-9 * f:
             f = f_new
             break
         f = f_new
-    E = float(compound.storage_modulus_Pa(f))
+    E = modulus(f)
     k_i = compound.kelvin_voigt_s(f)
     p = replace(base, E_Pa=E, kelvin_voigt_s=k_i)
     res = simulate_timoshenko(

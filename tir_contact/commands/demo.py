@@ -160,7 +160,7 @@ def run(args: argparse.Namespace) -> int:
           f"{fit.get('value', float('nan')):.2f} (95 % interval "
           f"{fit.get('interval', [float('nan')] * 2)[0]:.2f} to "
           f"{fit.get('interval', [float('nan')] * 2)[1]:.2f}; plausible <= "
-          f"{problem.max_plausible_strength:g})")
+          f"{problem.max_plausible_strength:.2f})")
     print(f"  gap before {case.gap_before_Hz:.0f} Hz, after {case.gap_after_Hz:.0f} Hz")
     if failed:
         return 1
