@@ -39,10 +39,11 @@ from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import (
     MEASURED_DEFLECTION_M,
     REFERENCE_COMPOUND,
+    Compound,
     identify_root_stiffness,
     steady_beam_column,
 )
-from friction_model.dynamics import velocity_ramp
+from friction_model.dynamics import predict_stick_slip, velocity_ramp
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
     _system,
@@ -194,6 +195,11 @@ cycles = {k4: limit_cycle(k4) for k4 in (K4_INTERVAL[0], K4_CENTRAL, K4_INTERVAL
 for k4, (f, a, peak, _) in cycles.items():
     print(f"  k4 = {k4:5.0f} s/m: limit cycle {f:.0f} Hz, amplitude {a:.3f} mm, peak {peak:.3f} mm")
 fs = [c[0] for c in cycles.values()]
+# the loss factor of the compound at -5 degC and kHz is not measured: 0.15-0.3 (tread)
+by_loss = {
+    tl: predict_stick_slip(compound=Compound(loss_factor=tl))["frequency_Hz"] for tl in (0.15, 0.3)
+}
+print("  tan(delta) 0.15 / 0.3: limit cycle " + " / ".join(f"{f:.0f} Hz" for f in by_loss.values()))
 
 # -- the table ---------------------------------------------------------------------------------
 h = steady["haringx"]
@@ -231,7 +237,8 @@ table = pd.DataFrame(
             "stick-slip frequency / Hz",
             "1500 (rig), 1111 (thesis sim.)",
             BEFORE["stick_slip_Hz"],
-            f"{cycles[K4_CENTRAL][0]:.0f} (k4 20-200 s/m: {min(fs):.0f}-{max(fs):.0f}); "
+            f"{cycles[K4_CENTRAL][0]:.0f} (k4 20-200 s/m: {min(fs):.0f}-{max(fs):.0f}; "
+            f"tan(delta) 0.15-0.3: {by_loss[0.15]:.0f}-{by_loss[0.3]:.0f}); "
             f"linear mode {f_mode:.0f}",
             "predicted",
         ],
