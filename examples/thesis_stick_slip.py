@@ -12,6 +12,12 @@ element at kHz frequencies) and ``friction_relaxation`` (Eq. 5.12, which cannot 
 frequency). It prints the verdict, the fitted strength s with its 95 % interval and the gap
 before and after, and plots measured, base and corrected frequency.
 
+The thesis's 1111 Hz comes from a simulation whose modulus and damping were tuned until a
+stick-slip appeared, so this case reproduces the thesis's argument, not a test of the model.
+The honest comparison (issue 12) starts from the frequency predicted from the one rubber:
+:func:`friction_model.discrepancy.stickslip.predicted_stick_slip_problem` (826 Hz), on which
+the workflow reports an unexplained residual (``tir-contact demo``, docs/friction_model.md).
+
 Run: ``python examples/thesis_stick_slip.py [--out FOLDER]`` (default
 ``examples/out/thesis_stick_slip``; a second). Writes ``stick_slip_frequency.png`` and
 ``result.json``.

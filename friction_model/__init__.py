@@ -42,6 +42,7 @@ from friction_model.calibration import (
     evaluate_on_table_4_6,
     table_4_6_targets,
 )
+from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.conditions import Conditions
 from friction_model.constants import ICE, WATER, IceProperties, WaterProperties
 from friction_model.coupling import (
@@ -61,6 +62,7 @@ from friction_model.drywet import (
     simulate_block,
 )
 from friction_model.drywet_law import DryWetLaw
+from friction_model.dynamics.contact import element_real_contact_fractions
 from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
 from friction_model.element_step import StepElement, step_element, step_response
 from friction_model.evaluation import (
@@ -103,12 +105,14 @@ __all__ = [
     "DRY_WET_EFFECTS",
     "EFFECT_NAMES",
     "ICE",
+    "REFERENCE_COMPOUND",
     "REFERENCE_SAMPLES",
     "WATER",
     "ArctanExponentialLaw",
     "BlockFriction",
     "BlockGeometry",
     "CalibrationResult",
+    "Compound",
     "Conditions",
     "ConstantLaw",
     "DecreasingSqrtLaw",
@@ -137,6 +141,7 @@ __all__ = [
     "dry_run_in_length",
     "drywet_inputs",
     "element_friction_table",
+    "element_real_contact_fractions",
     "evaluate_folder",
     "evaluate_instationary_run",
     "evaluate_on_table_4_6",

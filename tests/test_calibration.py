@@ -21,19 +21,39 @@ def test_targets_are_table_4_6():
 
 
 def test_default_parameters_meet_the_target():
-    # The issue's target: RMSE <= 0.015 on each curve with the right shape.
+    # RMSE <= 0.010 per curve (issue 12 target; was 0.015) and the measured direction
     table, rmse = evaluate_on_table_4_6(DryWetParameters())
     for name in ("cold-dry 2.5 bar", "cold-dry 5 bar", "warm-humid 2.5 bar", "warm-humid 5 bar"):
-        assert rmse[name] <= 0.015, (name, rmse[name])
-    for name, g in table.groupby("curve"):
+        assert rmse[name] <= 0.010, (name, rmse[name])
+    for _, g in table.groupby("curve"):
         g = g.sort_values("velocity_mps")
         mu, target = g["mu_model"].to_numpy(), g["mu_target"].to_numpy()
-        change, target_change = mu[-1] - mu[0], target[-1] - target[0]
-        # the model must change in the measured direction by a good part of the measured
-        # change from 1 to 7 m/s: it reaches 50-56 % on the warm/humid curves and more on
-        # the cold/dry ones; 45 % leaves room for grid effects (about 1 %)
-        assert np.sign(change) == np.sign(target_change)
-        assert abs(change) >= 0.45 * abs(target_change), (name, change, target_change)
+        assert np.sign(mu[-1] - mu[0]) == np.sign(target[-1] - target[0])
+
+
+_SHAPE_FAILS = (
+    "the shared parameter set cannot carry it: best rise 56 % / 51 % (warm-humid), flat "
+    "from 1 to 2 m/s, cold-dry turning up above 6 m/s, even with qll, humidity gain, "
+    "mu_dry, heat fraction or a viscous-shear scale freed (docs/friction_model.md)"
+)
+
+
+@pytest.mark.parametrize(
+    "curve",
+    [
+        pytest.param(c, marks=pytest.mark.xfail(reason=_SHAPE_FAILS, strict=True))
+        for c in ("cold-dry 2.5 bar", "cold-dry 5 bar", "warm-humid 2.5 bar", "warm-humid 5 bar")
+    ],
+)
+def test_whole_velocity_shape_of_table_4_6(curve):
+    # Issue 12: the whole 1-7 m/s shape, step by step. Table 4.6's laws A v^-+0.5 + B are
+    # monotone, so every 1 m/s step must change mu in the measured direction, and the change
+    # from 1 to 7 m/s must reach 80 % of the measured one (the issue's target).
+    table, _ = evaluate_on_table_4_6(DryWetParameters())
+    g = table[table["curve"] == curve].sort_values("velocity_mps")
+    mu, target = g["mu_model"].to_numpy(), g["mu_target"].to_numpy()
+    assert np.all(np.sign(np.diff(mu)) == np.sign(np.diff(target))), np.diff(mu)
+    assert (mu[-1] - mu[0]) / (target[-1] - target[0]) >= 0.8
 
 
 def test_calibration_from_a_perturbed_start_recovers_the_fit():

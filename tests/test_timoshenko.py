@@ -205,7 +205,7 @@ def sliding(p, *, v=1.0, friction=LAW, t_end=0.1, **kw):
 def test_steady_sliding_matches_static_force_balance():
     # without axial terms, foreshortening and lever arm the steady state is the static
     # beam under the tip force mu(v0) N0
-    p = params(axial_force_terms=False, foreshortening=False, lever_arm_m=0.0)
+    p = params(beam_column="none", foreshortening=False, lever_arm_m=0.0)
     res = sliding(p)
     last = res.data.iloc[-1]
     assert last["normal_force_N"] == pytest.approx(N0, rel=1e-12)
@@ -238,7 +238,7 @@ def test_relative_velocity_uses_tip_deflection_velocity():
 def test_offset_normal_force_deflects_tip_against_sliding_direction():
     # mu = 0 and a positive (front-edge) lever arm: static tip moment -e N (Eq. 5.20/5.28)
     e = 1e-3
-    p = params(axial_force_terms=False, foreshortening=False, lever_arm_m=e)
+    p = params(beam_column="none", foreshortening=False, lever_arm_m=e)
     res = sliding(p, friction=ConstantLaw(0.0), t_end=0.05)
     r_tip = res.data["tip_deflection_mm"].iloc[-1] * 1e-3
     assert r_tip < 0

@@ -73,6 +73,7 @@ from friction_model.discrepancy.steady import SteadyProblem, read_steady_table
 from friction_model.discrepancy.stickslip import (
     StickSlipProblem,
     StickSlipResult,
+    predicted_stick_slip_problem,
     stick_slip_case,
     thesis_stick_slip_problem,
 )
@@ -102,6 +103,7 @@ __all__ = [
     "chi_square",
     "get_candidate",
     "group_folds",
+    "predicted_stick_slip_problem",
     "read_elements_table",
     "read_steady_table",
     "read_transient_table",

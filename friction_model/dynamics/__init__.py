@@ -15,7 +15,8 @@ Euler-Bernoulli beam (section 5.2)
 Timoshenko beam (section 5.3)
     :class:`TimoshenkoParams`, :func:`simulate_timoshenko`, :func:`static_tip_deflection`,
     :func:`natural_frequencies_timoshenko`, :func:`fdm_natural_frequencies`,
-    :func:`lever_arm`, :func:`preload_for_normal_force`, :func:`cowper_shear_coefficient`.
+    :func:`lever_arm`, :func:`preload_for_normal_force`, :func:`cowper_shear_coefficient`,
+    :func:`beam_column_static`, :func:`buckling_load`, :func:`fdm_buckling_load`.
 Contact ratio and sweeps
     :func:`reference_contact_ratios`, :func:`run_sweep`, :func:`parameter_grid`,
     :func:`timoshenko_point`, :func:`dry_wet_point`.
@@ -43,6 +44,7 @@ from friction_model.dynamics.rigid import (
     simulate_block_dynamics,
     simulate_sdof,
 )
+from friction_model.dynamics.stick_slip import predict_stick_slip
 from friction_model.dynamics.sweep import (
     dry_wet_point,
     parameter_grid,
@@ -51,7 +53,10 @@ from friction_model.dynamics.sweep import (
 )
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
+    beam_column_static,
+    buckling_load,
     cowper_shear_coefficient,
+    fdm_buckling_load,
     fdm_natural_frequencies,
     lever_arm,
     natural_frequencies_timoshenko,
@@ -67,16 +72,20 @@ __all__ = [
     "SimulationError",
     "SimulationResult",
     "TimoshenkoParams",
+    "beam_column_static",
+    "buckling_load",
     "constant_preload",
     "constant_velocity",
     "cowper_shear_coefficient",
     "dry_wet_point",
     "eb_natural_frequencies",
     "element_surface_profiles",
+    "fdm_buckling_load",
     "fdm_natural_frequencies",
     "lever_arm",
     "natural_frequencies_timoshenko",
     "parameter_grid",
+    "predict_stick_slip",
     "preload_for_normal_force",
     "reference_contact_ratios",
     "run_sweep",

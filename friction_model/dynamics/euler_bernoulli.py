@@ -256,9 +256,10 @@ def simulate_euler_bernoulli(
     params: EulerBernoulliParams,
     *,
     velocity: float | Profile,
-    preload: float | Profile,
     friction: Any,
     t_end_s: float,
+    normal_force: float | Profile | None = None,
+    preload: float | Profile | None = None,
     n_modes: int = 3,
     method: str = "LSODA",
     rtol: float = 1e-6,
@@ -276,8 +277,13 @@ def simulate_euler_bernoulli(
     params : EulerBernoulliParams
     velocity : float or callable
         Sliding velocity v0 (m/s) or profile v0(t).
-    preload : float or callable
-        Preload distance y0 from the clamp to the ground (m) or profile y0(t).
+    normal_force : float or callable, optional
+        Applied normal force F_N (N) or profile F_N(t): a constant force, the rig's soft
+        loading spring (vertical, fixed in direction; its work on the foreshortening and the
+        end-face tilt gives the same generalised forces as the penalty contact).
+    preload : float or callable, optional
+        Instead of ``normal_force``: the preload distance y0 from the clamp to the ground (m)
+        or profile y0(t) (penalty contact, Eq. 5.2). Give exactly one of the two.
     friction : friction law or RelaxedFriction
         ``mu(v_rel_mps, *, pressure_Pa=None, temperature_C=None)``; RelaxedFriction adds the
         state of Eq. 5.12. The law gets the nominal pressure F_N / (l w).
@@ -335,7 +341,13 @@ def simulate_euler_bernoulli(
     _warn_eq_5_13(params, k)
 
     vel = _as_profile("velocity", velocity)
-    pre = _as_profile("preload", preload)
+    if (preload is None) == (normal_force is None):
+        raise ValueError(
+            "give exactly one of normal_force (applied force, N) and preload (distance, m), "
+            f"got normal_force={normal_force!r}, preload={preload!r}"
+        )
+    pre = _as_profile("preload", preload) if preload is not None else (lambda t: float("nan"))
+    load = _as_profile("normal_force", normal_force) if normal_force is not None else None
     fr = _FrictionSet("friction", friction, 1, allow_relaxed=True)
     relaxed = bool(fr.index.size)
 
@@ -357,8 +369,11 @@ def simulate_euler_bernoulli(
         v0, y0 = float(vel(t)), float(pre(t))
         fore = 0.5 * np.einsum("...j,jk,...k->...", q, geo, q)
         depth = d - fore + e * (q @ dw_tip)
-        u = params.free_length_m + depth - y0
-        fn = c_n * np.maximum(u, 0.0)
+        if load is None:
+            u = params.free_length_m + depth - y0
+            fn = c_n * np.maximum(u, 0.0)
+        else:
+            fn = np.full(np.shape(depth), max(float(load(t)), 0.0))
         v_rel = v0 - dq @ w_tip
         pressure = fn / area
         mu = fr.steady(np.abs(v_rel)[..., None], pressure[..., None])[..., 0]
@@ -380,7 +395,7 @@ def simulate_euler_bernoulli(
         return np.concatenate(parts, axis=1)
 
     rhs = finite_rhs(rhs_batch, "Euler-Bernoulli beam", "non-finite modal accelerations")
-    amp = max(abs(d - pre(0.0)), 1e-6)
+    amp = max(abs(d - pre(0.0)), 1e-6) if load is None else max(float(load(0.0)) / c_n, 1e-6)
     floor = np.concatenate(
         [np.full(k, 1e-3 * amp), np.full(k, 1e-3 * amp * omega[0]), np.full(int(relaxed), 1e-3)]
     )

@@ -73,6 +73,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 from scipy.sparse import lil_matrix
 
+from friction_model.compound import REFERENCE_COMPOUND, gent_youngs_modulus
 from friction_model.dynamics import _rigid_eom as eom
 from friction_model.dynamics._common import (
     Profile,
@@ -110,8 +111,6 @@ _G3_ELEMENT_LENGTH_M = float(_G3.element_lengths[0]) * 1e-3
 _WIDTH_M = _G3.width_mm * 1e-3
 _BLOCK_LENGTH_M = _G3.length_mm * 1e-3
 _SIPE_WIDTH_M = _G3.sipe_width_mm * 1e-3
-#: Shore A hardness of the reference compound REF (Table 4.3).
-_REF_SHORE_A = 60.0
 #: Shear coefficient of a rectangular section for nu = 0.5 (Cowper, Eq. 5.19).
 _SHEAR_COEFFICIENT = 6.0 / 7.0
 #: Standard gravity, m/s^2.
@@ -119,31 +118,13 @@ _STANDARD_GRAVITY = 9.80665
 _METHODS = ("Radau", "BDF", "LSODA")
 
 
-def gent_youngs_modulus(shore_a: float) -> float:
-    """Young's modulus of rubber from its Shore A hardness (Gent's relation), Pa.
-
-    ``E = 0.0981 (56 + 7.62336 S) / (0.137505 (254 - 2.54 S))`` MPa.
-
-    Parameters
-    ----------
-    shore_a : float
-        Shore A hardness, in [20, 80] where the relation holds.
-
-    Examples
-    --------
-    >>> round(gent_youngs_modulus(60.0) / 1e6, 2)
-    3.61
-    """
-    s = check_in_range("shore_a", shore_a, 20.0, 80.0)
-    return 0.0981 * (56.0 + 7.62336 * s) / (0.137505 * (254.0 - 2.54 * s)) * 1e6
-
-
-#: E of the reference compound REF (Shore A 60, Table 4.3) by Gent's relation, Pa.
-REFERENCE_YOUNGS_MODULUS_PA = gent_youngs_modulus(_REF_SHORE_A)
+#: E of the reference compound REF (Shore A 60, Table 4.3) by Gent's relation, Pa
+#: (:data:`friction_model.compound.REFERENCE_COMPOUND`, the one rubber of the package).
+REFERENCE_YOUNGS_MODULUS_PA = REFERENCE_COMPOUND.E0_Pa
 #: Density of a carbon-black filled tread compound, kg/m^3.
-REFERENCE_DENSITY_KG_M3 = 1150.0
+REFERENCE_DENSITY_KG_M3 = REFERENCE_COMPOUND.density_kg_m3
 #: Loss factor tan(delta) of a tread compound near 0 degC (typically 0.15-0.3).
-REFERENCE_LOSS_FACTOR = 0.2
+REFERENCE_LOSS_FACTOR = REFERENCE_COMPOUND.loss_factor
 
 
 # -- parameter helpers ----------------------------------------------------------------------

@@ -52,8 +52,9 @@ def timoshenko_point(
 ) -> dict[str, Any]:
     """Steady state of one Timoshenko element (G3 element, Eq. 5.24 from Table 4.6).
 
-    A picklable function for :func:`run_sweep`. The preload distance is set so that the
-    undeflected element carries ``pressure_bar`` on its face; G = E/3, c_N = E A / d.
+    A picklable function for :func:`run_sweep`. The element carries the constant normal
+    force ``pressure_bar`` times its face area (the default load, a soft loading spring);
+    G = E/3, Haringx beam-column, density of the reference compound.
 
     Returns
     -------
@@ -61,28 +62,21 @@ def timoshenko_point(
         ``tip_deflection_mm, tip_slope_deg, bending_angle_deg, normal_force_N, mu,
         steps, wall_time_s`` (means over the last 20 % of the run).
     """
-    from friction_model.dynamics.timoshenko import (
-        TimoshenkoParams,
-        preload_for_normal_force,
-        simulate_timoshenko,
-    )
+    from friction_model.compound import REFERENCE_COMPOUND
+    from friction_model.dynamics.timoshenko import TimoshenkoParams, simulate_timoshenko
 
     E = E_MPa * 1e6
-    probe = TimoshenkoParams(
-        E_Pa=E, density_kg_m3=1150.0, kelvin_voigt_s=kelvin_voigt_s, contact_stiffness_N_m=1.0
-    )
     params = TimoshenkoParams(
         E_Pa=E,
-        density_kg_m3=1150.0,
+        density_kg_m3=REFERENCE_COMPOUND.density_kg_m3,
         kelvin_voigt_s=kelvin_voigt_s,
-        contact_stiffness_N_m=E * probe.area_m2 / probe.height_m,
+        contact_stiffness_N_m=1.0,  # unused: applied normal force
         n_nodes=n_nodes,
     )
-    y0 = preload_for_normal_force(params, pressure_bar * 1e5 * params.area_m2)
     res = simulate_timoshenko(
         params,
         velocity=velocity_mps,
-        preload=y0,
+        normal_force=pressure_bar * 1e5 * params.area_m2,
         friction=table_4_6_eq_5_24(),
         t_end_s=t_end_s,
         n_output=201,

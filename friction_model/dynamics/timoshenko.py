@@ -21,20 +21,22 @@ Sign convention
 * N > 0 is the compressive contact force; the lever arm e > 0 puts it in front of the axis
   (towards -r, the leading edge of the sliding element).
 
-Equations (Eq. 5.25-5.29 in this convention)::
+Equations (Eq. 5.25-5.29 in this convention, default Haringx beam-column)::
 
     rho A r_tt   = kappa G A (1 + k_i d/dt) (r' - phi)' - N phi'
-    rho I phi_tt = E I (1 + k_i d/dt) phi'' + kappa G A (1 + k_i d/dt) (r' - phi) - N (r' - phi)
-    r(0) = phi(0) = 0                                               (Eq. 5.27)
+    rho I phi_tt = E I (1 + k_i d/dt) phi'' + kappa G A (1 + k_i d/dt) (r' - phi) + N (r' - phi)
+    r(0) = 0, phi(0) = 0 or E I phi'(0) = k_theta phi(0) (elastic root)  (Eq. 5.27)
     E I (1 + k_i d/dt) phi'(d) = -M_R = -e N                         (Eq. 5.20, 5.28)
-    kappa G A (1 + k_i d/dt) (r' - phi)(d) = F_R = mu(v_rel) N       (Eq. 5.29)
+    kappa G A (1 + k_i d/dt) (r' - phi)(d) - N phi(d) = F_R = mu(v_rel) N   (Eq. 5.29)
     v_rel = v0(t) - dr/dt(d, t)                                     (Eq. 5.23, corrected)
-    N = c_N max(0, y_N + d - delta(r) - y0(t))                      (Eq. 5.1-5.3)
+    N = N(t) applied (default), or N = c_N max(0, y_N + d - delta(u) - y0(t)) (Eq. 5.1-5.3)
 
-with the shortening delta = (1/2) int_0^d r'^2 dx of the deflected axis (the beam analogue of
-d cos(phi) in Eq. 5.3; switch off with ``foreshortening=False``), the lever arm e(phi(d)) of
-Eq. 5.21/5.22 and the friction law of Eq. 5.24 (or any law of
+with the tip rise delta = u^T G u / 2 (Haringx: (1/2) int (r'^2 - (r' - phi)^2) dx; the beam
+analogue of d cos(phi) in Eq. 5.3; switch off with ``foreshortening=False``), the lever arm
+e(phi(d)) of Eq. 5.21/5.22 and the friction law of Eq. 5.24 (or any law of
 :mod:`friction_model.laws`, optionally relaxed by Eq. 5.12). Initial state Eq. 5.30: rest.
+N is the vertical ice reaction, fixed in direction (a dead load); with the axial terms
+derived from its potential the undamped, frictionless element conserves energy.
 
 Thesis slips handled here
 -------------------------
@@ -48,16 +50,24 @@ Thesis slips handled here
 
 Modelling notes
 ---------------
-* Eq. 5.25 with the shear-force boundary condition Eq. 5.29 as printed treats the normal
-  force as staying aligned with the tip cross-section (no ``N phi(d)`` in the tip's
-  transverse force balance), so the element has no static Euler buckling under N (a dead
-  vertical load would buckle it at N = pi^2 E I / (4 d^2), of the order of the contact load
-  for soft tread rubber).
-* The ``- N (r' - phi)`` term of Eq. 5.26 is kept as printed, although a force balance of a
-  beam element under a compressive N with the shear force normal to the cross-section
-  (Haringx) gives ``+ N (r' - phi)``. With rubber calibrated to the measured deflection,
-  N / (kappa G A) ~ 0.6, so this term changes the split between bending and shear
-  considerably; ``axial_force_terms=False`` drops the N terms (Eq. 5.15/5.16).
+* Eq. 5.25/5.26 as printed (``beam_column="thesis_literal"``) put ``- N (r' - phi)`` in the
+  moment equation and leave ``N phi(d)`` out of the tip's transverse balance (Eq. 5.29): the
+  normal force then follows the tip face, its operator is strongly non-symmetric
+  (||G - G^T|| / ||G|| ~ 1.9) and it feeds energy into the element (a follower load); it
+  has no static buckling. That is neither the Haringx nor the Engesser beam-column, and the
+  ice reaction is vertical, not turning with the tip face. The default is therefore the
+  Haringx form (force balance with the shear force normal to the rotated cross-section:
+  ``+ N (r' - phi)``, tip balance with ``- N phi(d)``), conservative and with the buckling
+  load N (1 + N / kGA) = pi^2 E I / (4 d^2); ``"engesser"`` is the other classical form.
+  With rubber calibrated to the measured deflection N is a large fraction of the buckling
+  load, so the form matters (the printed one gives a bending angle of 8.7-9.2 deg, thesis
+  ~14 deg).
+* The rig loads the block through a soft spring (nearly constant force); the default load
+  is an applied normal force. A fixed preload distance (stiff penalty c_N, Eq. 5.1/5.2)
+  unloads the element as its tip rises; it remains available (``preload=``).
+* The block base under the sipes is not rigid: ``root_stiffness_Nm_per_rad`` adds a root
+  rotation spring (identified from the measured 1.6 mm deflection in
+  :mod:`friction_model.compound`).
 * The lever arm of Eq. 5.21/5.22 is odd in the tip rotation; its sign switch at phi = 0 is
   smoothed over ``lever_arm_smoothing_rad`` (a jump of 2 e(0+) otherwise). Its moment
   e N acts against the tilt: the normal force moves to the leading edge as the element
@@ -89,6 +99,7 @@ import scipy.sparse.linalg
 from scipy.integrate import BDF, Radau
 from scipy.optimize import brentq
 
+from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.dynamics._common import (
     Profile,
     SimulationError,
@@ -97,14 +108,22 @@ from friction_model.dynamics._common import (
     constant_preload,
     constant_velocity,
 )
-from friction_model.dynamics._timoshenko_fdm import FdmSystem, assemble, tip_slope
+from friction_model.dynamics._timoshenko_fdm import (
+    BEAM_COLUMN_FORMS,
+    FdmSystem,
+    assemble,
+    tip_slope,
+)
 from friction_model.laws import RelaxedFriction
 
 logger = logging.getLogger(__name__)
 
 __all__ = [
     "TimoshenkoParams",
+    "beam_column_static",
+    "buckling_load",
     "cowper_shear_coefficient",
+    "fdm_buckling_load",
     "fdm_natural_frequencies",
     "fdm_static_deflection",
     "lever_arm",
@@ -114,6 +133,8 @@ __all__ = [
     "static_tip_deflection",
 ]
 
+#: Frequency at which the default Kelvin-Voigt damping has the compound's loss factor, Hz.
+_KV_REFERENCE_HZ = 1000.0
 #: Lever arm reached at large tilt in Fig. 5.12 a (e ~ 1.9 mm beyond 40 deg), m.
 LEVER_ARM_MAX_FIG_5_12_M = 1.9e-3
 #: Minimum ratio height / length of a beam-like element (below it the element is a pad).
@@ -162,13 +183,17 @@ class TimoshenkoParams:
     Parameters
     ----------
     E_Pa : float
-        Young's modulus E, Pa, in [1e3, 1e12].
+        Young's modulus E, Pa, in [1e3, 1e12]; default E0 of the one rubber
+        (:data:`friction_model.compound.REFERENCE_COMPOUND`, Shore A 60, 3.61 MPa).
     density_kg_m3 : float
-        Rubber density rho, kg/m^3, in [100, 30000].
+        Rubber density rho, kg/m^3, in [100, 30000]; default the compound's.
     kelvin_voigt_s : float
-        Kelvin-Voigt damping k_i of Eq. 5.25/5.26, s, in [0, 1].
-    contact_stiffness_N_m : float
-        Penalty stiffness c_N of the ice contact (Eq. 5.1), N/m, in [1, 1e12].
+        Kelvin-Voigt damping k_i of Eq. 5.25/5.26, s, in [0, 1]; default the compound's
+        loss factor at 1 kHz (the order of the element's first mode): tan(delta) / (2 pi
+        1 kHz) = 32 us.
+    contact_stiffness_N_m : float, optional
+        Penalty stiffness c_N of the ice contact (Eq. 5.1), N/m, in [1, 1e12], used with a
+        preload distance; default E A / d, the element's compression stiffness.
     height_m : float
         Element height d (sipe depth, beam length), m; default 6 mm as in section 5.3.
         Must be >= 1e-4 m and >= 0.5 length_m (a beam, not a pad).
@@ -199,9 +224,15 @@ class TimoshenkoParams:
         (0, 0.1].
     foreshortening : bool
         Include the tip rise (1/2) int r'^2 dx in the penetration (default True).
-    axial_force_terms : bool
-        Include the axial-force terms of Eq. 5.25/5.26 (default True); False gives the
+    beam_column : {"haringx", "engesser", "thesis_literal", "none"}
+        Form of the axial-force terms (N vertical, fixed in direction). ``"haringx"``
+        (default): the conservative beam-column with the shear force normal to the rotated
+        cross-section; ``"engesser"``: normal to the deflected axis; ``"thesis_literal"``:
+        Eq. 5.25/5.26 as printed (non-conservative, see the module notes); ``"none"``: the
         plain Timoshenko equations 5.15/5.16 with N acting only through the contact.
+    root_stiffness_Nm_per_rad : float, optional
+        Rotational stiffness of an elastic root (the block base under the sipes), N m/rad,
+        in [1e-6, 1e9]; None (default) clamps the root (Eq. 5.27).
     friction_smoothing_mps : float
         eps of the smoothed sign used with even friction laws, m/s, in (0, 1].
     n_nodes : int
@@ -214,10 +245,10 @@ class TimoshenkoParams:
     describes.
     """
 
-    E_Pa: float
-    density_kg_m3: float
-    kelvin_voigt_s: float
-    contact_stiffness_N_m: float
+    E_Pa: float = REFERENCE_COMPOUND.E0_Pa
+    density_kg_m3: float = REFERENCE_COMPOUND.density_kg_m3
+    kelvin_voigt_s: float = REFERENCE_COMPOUND.kelvin_voigt_s(_KV_REFERENCE_HZ)
+    contact_stiffness_N_m: float | None = None
     height_m: float = 6e-3
     length_m: float = 4.55e-3
     width_m: float = 80e-3
@@ -231,7 +262,8 @@ class TimoshenkoParams:
     lever_arm_m: float | None = None
     lever_arm_smoothing_rad: float = 1e-3
     foreshortening: bool = True
-    axial_force_terms: bool = True
+    beam_column: str = "haringx"
+    root_stiffness_Nm_per_rad: float | None = None
     friction_smoothing_mps: float = 1e-3
     n_nodes: int = 40
 
@@ -260,6 +292,14 @@ class TimoshenkoParams:
                 unit="s",
             ),
         )
+        if self.contact_stiffness_N_m is None:
+            put(
+                "contact_stiffness_N_m",
+                float(self.E_Pa)
+                * float(self.width_m)
+                * float(self.length_m)
+                / float(self.height_m),
+            )
         put(
             "contact_stiffness_N_m",
             check_in_range(
@@ -361,9 +401,26 @@ class TimoshenkoParams:
                 unit="rad",
             ),
         )
-        for flag in ("foreshortening", "axial_force_terms"):
-            if not isinstance(getattr(self, flag), bool):
-                raise TypeError(f"{flag} must be a bool, got {type(getattr(self, flag)).__name__}")
+        if not isinstance(self.foreshortening, bool):
+            raise TypeError(
+                f"foreshortening must be a bool, got {type(self.foreshortening).__name__}"
+            )
+        if self.beam_column not in BEAM_COLUMN_FORMS:
+            raise ValueError(
+                f"beam_column must be one of {BEAM_COLUMN_FORMS}, "
+                f"got beam_column={self.beam_column!r}"
+            )
+        if self.root_stiffness_Nm_per_rad is not None:
+            put(
+                "root_stiffness_Nm_per_rad",
+                check_in_range(
+                    "root_stiffness_Nm_per_rad",
+                    _real("root_stiffness_Nm_per_rad", self.root_stiffness_Nm_per_rad),
+                    1e-6,
+                    1e9,
+                    unit="N m/rad",
+                ),
+            )
         put(
             "friction_smoothing_mps",
             check_in_range(
@@ -528,7 +585,8 @@ def static_tip_deflection(
     r(d) = P d^3 / (3 E I) + P d / (kappa G A) + M d^2 / (2 E I) for a transverse tip force P
     and a tip moment M (positive: bending towards +r; the offset moment of Eq. 5.20 is
     M = -e N). Solves Eq. 5.15/5.16 with q = 0 and the boundary conditions Eq. 5.27-5.29
-    at rest without axial force.
+    at rest without axial force. An elastic root (``root_stiffness_Nm_per_rad`` k) adds the
+    rigid rotation of the beam: d (M + P d) / k.
 
     Examples
     --------
@@ -540,7 +598,137 @@ def static_tip_deflection(
     P = _real("force_N", force_N)
     M = _real("moment_Nm", moment_Nm)
     d = params.height_m
-    return P * d**3 / (3.0 * params.EI) + P * d / params.kGA + M * d**2 / (2.0 * params.EI)
+    out = P * d**3 / (3.0 * params.EI) + P * d / params.kGA + M * d**2 / (2.0 * params.EI)
+    if params.root_stiffness_Nm_per_rad is not None:
+        out += d * (M + P * d) / params.root_stiffness_Nm_per_rad
+    return out
+
+
+def beam_column_static(
+    params: TimoshenkoParams,
+    force_N: float,
+    *,
+    axial_force_N: float,
+    moment_Nm: float = 0.0,
+) -> tuple[float, float]:
+    """Closed-form static tip deflection and rotation of the loaded beam-column, (m, rad).
+
+    The cantilever (clamped, or on the elastic root of ``params``) carries at its tip a
+    transverse force P, a moment M and a compressive axial force N > 0 that keeps its
+    vertical direction (dead load). With the moment M(x) = M + P (d - x) + N (r(d) - r(x))
+    and the shear force of the chosen form (Haringx: kGA gamma = P + N phi; Engesser:
+    kGA gamma = P + N r'), phi obeys phi'' + a^2 phi = -a^2 P / N with
+
+    * Haringx: a^2 = N (1 + N / kGA) / EI, r' = (1 + N / kGA) phi + P / kGA,
+    * Engesser: a^2 = N / (EI (1 - N / kGA)), r' = (phi + P / kGA) / (1 - N / kGA),
+
+    and EI phi'(0) = k_theta phi(0) (phi(0) = 0 when clamped), EI phi'(d) = M. This is
+    the static form of the conservative beam-column of section 5.3 (Eq. 5.25/5.26 with
+    the Haringx or Engesser axial terms, Eq. 5.27-5.29); an independent truth for the
+    finite differences of :func:`fdm_static_deflection`.
+
+    Parameters
+    ----------
+    params : TimoshenkoParams
+        Beam; ``beam_column`` must be ``"haringx"`` or ``"engesser"``.
+    force_N : float
+        Transverse tip force P, N (+r).
+    axial_force_N : float
+        Compressive axial force N, N, > 0 and below the buckling load.
+    moment_Nm : float
+        Tip moment M, N m (positive bends towards +r).
+
+    Returns
+    -------
+    r_tip_m, phi_tip_rad : float
+        r(d) and phi(d).
+    """
+    if params.beam_column not in ("haringx", "engesser"):
+        raise ValueError(
+            "beam_column_static needs beam_column 'haringx' or 'engesser', "
+            f"got {params.beam_column!r}"
+        )
+    P = _real("force_N", force_N)
+    M = _real("moment_Nm", moment_Nm)
+    N = _real("axial_force_N", axial_force_N)
+    if not 0.0 < N < buckling_load(params):
+        raise ValueError(
+            f"axial_force_N must lie in (0, buckling load {buckling_load(params):g} N), got {N!r}"
+        )
+    EI, kGA, d = params.EI, params.kGA, params.height_m
+    haringx = params.beam_column == "haringx"
+    a_fac = 1.0 + N / kGA if haringx else 1.0 / (1.0 - N / kGA)
+    a = math.sqrt(N * a_fac / EI)
+    # phi = A sin(a x) + B cos(a x) - P / N
+    k_root = params.root_stiffness_Nm_per_rad
+    sa, ca = math.sin(a * d), math.cos(a * d)
+    # rows: root condition, tip moment condition
+    if k_root is None:
+        mat = np.array([[0.0, 1.0], [a * ca, -a * sa]])
+    else:
+        mat = np.array([[-EI * a / k_root, 1.0], [a * ca, -a * sa]])
+    rhs = np.array([P / N, M / EI])
+    A, B = np.linalg.solve(mat, rhs)
+    int_phi = A * (1.0 - ca) / a + B * sa / a - P / N * d
+    phi_tip = A * sa + B * ca - P / N
+    r_tip = a_fac * int_phi + P * d / kGA if haringx else a_fac * (int_phi + P * d / kGA)
+    return float(r_tip), float(phi_tip)
+
+
+def buckling_load(params: TimoshenkoParams) -> float:
+    """Closed-form buckling load of the cantilever beam-column under a dead load, N.
+
+    With the Euler load P_E of the column (clamped: pi^2 EI / (4 d^2); on an elastic root
+    of stiffness k: P_E = EI z^2 / d^2 with z tan(z) = k d / EI), Haringx gives
+    N (1 + N / kGA) = P_E, i.e. N = kGA (sqrt(1 + 4 P_E / kGA) - 1) / 2, and Engesser
+    N / (1 - N / kGA) = P_E, i.e. N = P_E / (1 + P_E / kGA) (Bazant & Cedolin, Stability of
+    Structures, section 1.7). ``"none"`` and ``"thesis_literal"`` have no static buckling
+    under N (the printed form treats N as a follower load): inf.
+
+    Parameters
+    ----------
+    params : TimoshenkoParams
+
+    Returns
+    -------
+    float
+        Critical compressive force, N.
+    """
+    if params.beam_column not in ("haringx", "engesser"):
+        return math.inf
+    EI, kGA, d = params.EI, params.kGA, params.height_m
+    if params.root_stiffness_Nm_per_rad is None:
+        z = 0.5 * math.pi
+    else:
+        beta = params.root_stiffness_Nm_per_rad * d / EI
+        z = brentq(lambda z: z * math.tan(z) - beta, 1e-12, 0.5 * math.pi - 1e-12, xtol=1e-15)
+    P_E = EI * z * z / d**2
+    if params.beam_column == "haringx":
+        return 0.5 * kGA * (math.sqrt(1.0 + 4.0 * P_E / kGA) - 1.0)
+    return P_E / (1.0 + P_E / kGA)
+
+
+def fdm_buckling_load(params: TimoshenkoParams) -> float:
+    """Smallest compressive N with (K - N G) singular in the finite differences, N.
+
+    Parameters
+    ----------
+    params : TimoshenkoParams
+        Beam and grid; ``beam_column`` ``"haringx"`` or ``"engesser"`` (symmetric G).
+
+    Returns
+    -------
+    float
+        The buckling load of the discretised element, N (second order in the grid).
+    """
+    if params.beam_column not in ("haringx", "engesser"):
+        raise ValueError(
+            f"fdm_buckling_load needs a conservative beam_column, got {params.beam_column!r}"
+        )
+    sysm = _system(params)
+    # K x = N G x  <=>  G x = (1/N) K x with K positive definite: largest 1/N
+    lam = scipy.linalg.eigh(sysm.G.toarray(), sysm.K.toarray(), eigvals_only=True)
+    return float(1.0 / lam.max())
 
 
 def _system(params: TimoshenkoParams, n_nodes: int | None = None) -> FdmSystem:
@@ -551,13 +739,21 @@ def _system(params: TimoshenkoParams, n_nodes: int | None = None) -> FdmSystem:
         rhoA=params.rhoA,
         rhoI=params.rhoI,
         n_nodes=params.n_nodes if n_nodes is None else n_nodes,
+        beam_column=params.beam_column,
+        root_stiffness_Nm_per_rad=params.root_stiffness_Nm_per_rad,
     )
 
 
 def fdm_static_deflection(
-    params: TimoshenkoParams, force_N: float, *, moment_Nm: float = 0.0
+    params: TimoshenkoParams,
+    force_N: float,
+    *,
+    moment_Nm: float = 0.0,
+    axial_force_N: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Static deflection of the FDM model under a tip force and moment (no axial force).
+    """Static deflection of the FDM model under a tip force, moment and axial force.
+
+    Solves (K - N G) u = f with the operators of ``params.beam_column``.
 
     Parameters
     ----------
@@ -567,6 +763,8 @@ def fdm_static_deflection(
         Transverse tip force P, N (+r).
     moment_Nm : float
         Tip moment M, N m (positive bends towards +r).
+    axial_force_N : float
+        Compressive axial force N on the tip, N (vertical dead load; 0: none).
 
     Returns
     -------
@@ -575,13 +773,16 @@ def fdm_static_deflection(
     """
     P = _real("force_N", force_N)
     M = _real("moment_Nm", moment_Nm)
+    N = _real("axial_force_N", axial_force_N)
     sysm = _system(params)
-    f = np.zeros(2 * sysm.m)
+    f = np.zeros(sysm.n_u)
     f[sysm.tip_r] = P
     f[sysm.tip_phi] = M
-    u = sp.linalg.spsolve(sysm.K.tocsc(), f)
-    r = np.concatenate([[0.0], u[: sysm.m]])
-    phi = np.concatenate([[0.0], u[sysm.m :]])
+    u = sp.linalg.spsolve((sysm.K - N * sysm.G).tocsc(), f)
+    m = sysm.m
+    r = np.concatenate([[0.0], u[:m]])
+    phi0 = u[2 * m] if sysm.has_root_rotation else 0.0
+    phi = np.concatenate([[phi0], u[m : 2 * m]])
     return sysm.x.copy(), r, phi
 
 
@@ -678,6 +879,11 @@ def natural_frequencies_timoshenko(params: TimoshenkoParams, n_modes: int = 3) -
         Ascending natural frequencies, Hz.
     """
     n_modes = _check_n_modes(n_modes)
+    if params.root_stiffness_Nm_per_rad is not None:
+        raise ValueError(
+            "natural_frequencies_timoshenko solves the clamped-free beam; with "
+            "root_stiffness_Nm_per_rad use fdm_natural_frequencies"
+        )
     d = params.height_m
     # Euler-Bernoulli first circular frequency as the scale of the grid
     w_eb = 1.8751040687**2 * math.sqrt(params.EI / (params.rhoA * d**4))
@@ -790,8 +996,9 @@ class _TimoshenkoProblem:
         params: TimoshenkoParams,
         *,
         velocity: Profile,
-        preload: Profile,
+        preload: Profile | None,
         friction: Any,
+        normal_force: Profile | None = None,
         temperature_C: float | None = None,
         mu_initial: float | None = None,
         initial_tip_force_N: float = 0.0,
@@ -799,6 +1006,9 @@ class _TimoshenkoProblem:
         self.params = params
         self.v0 = velocity
         self.y0 = preload
+        self.applied = normal_force
+        if (preload is None) == (normal_force is None):
+            raise ValueError("give exactly one of preload and normal_force")
         law, tau = friction, 0.0
         if isinstance(friction, RelaxedFriction):
             law, tau = friction.law, float(friction.tau_s)
@@ -813,13 +1023,15 @@ class _TimoshenkoProblem:
         sysm = _system(params)
         self.sys = sysm
         m = sysm.m
-        self.m, self.n2 = m, 2 * m
-        self.dim = 4 * m + (1 if self.relaxed else 0)
-        G = sysm.G if params.axial_force_terms else sysm.G * 0.0
+        self.m, self.n2 = m, sysm.n_u
+        self.dim = 2 * sysm.n_u + (1 if self.relaxed else 0)
+        G = sysm.G
         self.G_sparse = G.tocsr()
         self.K = sysm.operator("K")
         self.G = G.toarray() if isinstance(self.K, np.ndarray) else self.G_sparse
-        self.coupled = params.foreshortening
+        self.S = sysm.operator("S")
+        # N depends on the deflection only through the tip rise of a fixed preload distance
+        self.coupled = params.foreshortening and normal_force is None
         self.minv = 1.0 / sysm.mass
         self.k = params.kelvin_voigt_s
         self.cN = params.contact_stiffness_N_m
@@ -837,37 +1049,40 @@ class _TimoshenkoProblem:
             y[: self.n2] = scipy.sparse.linalg.spsolve(sysm.K.tocsc(), f)
         if self.relaxed:
             if mu_initial is None:
-                n0 = self.normal_force(0.0, y[:m])[0]
+                n0 = self.normal_force(0.0, y[: self.n2])[0]
                 mu_initial = self.fr.scalar(self.v0(0.0) - y[self.n2 + self.ir], n0)
             y[-1] = check_in_range("mu_initial", _real("mu_initial", mu_initial), -10.0, 10.0)
         self.y_init = y
         self._build_pattern()
 
     # -- pieces ----------------------------------------------------------------------
-    def normal_force(self, t: float, r: np.ndarray) -> tuple[float, np.ndarray | None]:
-        """Contact force N (N, Eq. 5.1/5.2) and dN/dr (N/m; None if constant in r)."""
+    def normal_force(self, t: float, u: np.ndarray) -> tuple[float, np.ndarray | None]:
+        """Normal force N (N) and dN/du (None if N does not depend on u).
+
+        An applied force (``normal_force``) is used as given (clipped at 0). A preload
+        distance gives the penalty contact of Eq. 5.1/5.2, N = c_N max(0, y_N + d - delta(u)
+        - y0(t)), with the tip rise delta = u^T S u / 2 (with ``foreshortening``).
+        """
+        if self.applied is not None:
+            return max(float(self.applied(t)), 0.0), None
         pen = self.base_gap - float(self.y0(t))
-        s = None
+        Su = None
         if self.params.foreshortening:
-            s = r.copy()
-            s[1:] -= r[:-1]
-            s /= self.h
-            pen -= 0.5 * self.h * float(s @ s)
+            Su = np.asarray(self.S @ u, dtype=float)
+            pen -= 0.5 * float(u @ Su)
         if pen <= 0.0:
             return 0.0, None
-        if s is None:
+        if Su is None:
             return self.cN * pen, None
-        grad = s
-        grad[:-1] -= s[1:]
-        return self.cN * pen, -self.cN * grad
+        return self.cN * pen, -self.cN * Su
 
     def fun(self, t: float, y: np.ndarray) -> np.ndarray:
         """Right-hand side dy/dt (Eq. 5.25-5.29 in space, Eq. 5.12 for mu_R)."""
         self.nfev += 1
-        n2, m = self.n2, self.m
+        n2 = self.n2
         u = y[:n2]
         v = y[n2 : 2 * n2]
-        N, _ = self.normal_force(t, u[:m])
+        N, _ = self.normal_force(t, u)
         v_rel = float(self.v0(t)) - v[self.ir]
         out = np.empty_like(y)
         out[:n2] = v
@@ -896,9 +1111,9 @@ class _TimoshenkoProblem:
         self, t: float, y: np.ndarray
     ) -> tuple[float, np.ndarray | None, float, float, float, float, float]:
         """N, dN/dr, mu, dmu/dv_rel, dmu/dN, e, de/dphi at the state y."""
-        m, n2 = self.m, self.n2
+        n2 = self.n2
         u = y[:n2]
-        N, dN = self.normal_force(t, u[:m])
+        N, dN = self.normal_force(t, u)
         v_rel = float(self.v0(t)) - y[n2 + self.ir]
         mu = y[-1] if self.relaxed else self.fr.scalar(v_rel, N)
         dmu_dv = self.fr.dmu_dv(v_rel, N)
@@ -908,7 +1123,7 @@ class _TimoshenkoProblem:
 
     def _build_pattern(self) -> None:
         """Fixed CSC pattern of the Jacobian and the constant parts of its data."""
-        n2, m, dim, ir, ip = self.n2, self.m, self.dim, self.ir, self.ip
+        n2, dim, ir, ip = self.n2, self.dim, self.ir, self.ip
         K = self.sys.K.tocsr()
         G = self.G_sparse
         minv = sp.diags(self.minv)
@@ -919,8 +1134,7 @@ class _TimoshenkoProblem:
         blocks: list[list[Any]] = [[None, eye], [ones_u, ones_v]]
         if self.relaxed:
             col = sp.csr_matrix(([1.0], ([ir], [0])), shape=(n2, 1))
-            row_u = sp.csr_matrix(np.ones((1, m)) if self.coupled else np.zeros((1, m)))
-            row_u = sp.hstack([row_u, sp.csr_matrix((1, m))])
+            row_u = sp.csr_matrix(np.ones((1, n2)) if self.coupled else np.zeros((1, n2)))
             row_v = sp.csr_matrix(([1.0], ([0], [ir])), shape=(1, n2))
             blocks = [
                 [None, eye, None],
@@ -932,7 +1146,7 @@ class _TimoshenkoProblem:
             dense_block = sp.bmat(
                 [
                     [sp.csr_matrix((n2, dim))],
-                    [sp.hstack([sp.csr_matrix(np.ones((n2, m))), sp.csr_matrix((n2, dim - m))])],
+                    [sp.hstack([sp.csr_matrix(np.ones((n2, n2))), sp.csr_matrix((n2, dim - n2))])],
                     [sp.csr_matrix((dim - 2 * n2, dim))],
                 ],
                 format="csc",
@@ -970,12 +1184,12 @@ class _TimoshenkoProblem:
             self._pos_mu_mu = lookup[(dim - 1, dim - 1)]
             self._pos_mu_v = lookup[(dim - 1, n2 + ir)]
         if self.coupled:
-            rr, cc = np.meshgrid(np.arange(n2), np.arange(m), indexing="ij")
+            rr, cc = np.meshgrid(np.arange(n2), np.arange(n2), indexing="ij")
             self._pos_block = np.array(
                 [lookup[(int(r) + n2, int(c))] for r, c in zip(rr.ravel(), cc.ravel(), strict=True)]
-            ).reshape(n2, m)
+            ).reshape(n2, n2)
             if self.relaxed:
-                self._pos_mu_r = np.array([lookup[(dim - 1, j)] for j in range(m)])
+                self._pos_mu_r = np.array([lookup[(dim - 1, j)] for j in range(n2)])
 
     def jac(self, t: float, y: np.ndarray) -> sp.csc_matrix:
         """Analytic Jacobian df/dy, sparse CSC with a fixed pattern.
@@ -1015,10 +1229,11 @@ class _TimoshenkoProblem:
         m, n2, h = self.m, self.n2, self.h
         zeros = np.zeros((len(t), 1))
         r_full = np.hstack([zeros, Y[:, :m]])
-        phi_full = np.hstack([zeros, Y[:, m:n2]])
+        phi0 = Y[:, 2 * m : 2 * m + 1] if self.sys.has_root_rotation else zeros
+        phi_full = np.hstack([phi0, Y[:, m : 2 * m]])
         v_tip = Y[:, n2 + self.ir]
         v0 = np.array([float(self.v0(ti)) for ti in t])
-        N = np.array([self.normal_force(ti, Y[i, :m])[0] for i, ti in enumerate(t)])
+        N = np.array([self.normal_force(ti, Y[i, :n2])[0] for i, ti in enumerate(t)])
         v_rel = v0 - v_tip
         mu = Y[:, -1] if self.relaxed else np.asarray(self.fr.mu(v_rel, N), dtype=float)
         slope = tip_slope(r_full, h)
@@ -1055,9 +1270,10 @@ def simulate_timoshenko(
     params: TimoshenkoParams,
     *,
     velocity: Profile | float,
-    preload: Profile | float,
     friction: Any,
     t_end_s: float,
+    normal_force: Profile | float | None = None,
+    preload: Profile | float | None = None,
     n_output: int = 1001,
     rtol: float = 1e-5,
     atol: float = 1e-7,
@@ -1076,9 +1292,14 @@ def simulate_timoshenko(
     velocity : callable or float
         Sliding velocity v0(t) of the ice relative to the element root, m/s (Eq. 5.23); a
         number means constant.
-    preload : callable or float
-        Preload distance y0(t) from the root to the ice surface, m (Eq. 5.2); a number means
-        constant. See :func:`preload_for_normal_force`.
+    normal_force : callable or float, optional
+        Applied normal force N(t) on the tip, N (a number means constant): the default load,
+        the rig's soft loading spring (nearly constant force). Vertical, fixed in direction.
+    preload : callable or float, optional
+        Instead of ``normal_force``: the preload distance y0(t) from the root to the ice
+        surface, m (Eq. 5.2, a stiff contact spring c_N: N falls as the element bends); a
+        number means constant. See :func:`preload_for_normal_force`. Give exactly one of
+        ``normal_force`` and ``preload``.
     friction : friction law or RelaxedFriction
         mu(v_rel, pressure_Pa=N/(l w), temperature_C=...) (Eq. 5.24 or any law of
         :mod:`friction_model.laws`); a :class:`~friction_model.laws.RelaxedFriction` with
@@ -1147,12 +1368,23 @@ def simulate_timoshenko(
             "temperature_C", _real("temperature_C", temperature_C), -273.15, 1e3, unit="degC"
         )
     v0 = _as_profile("velocity", velocity, constant_velocity)
-    y0 = _as_profile("preload", preload, constant_preload)
+    if (preload is None) == (normal_force is None):
+        raise ValueError(
+            "give exactly one of normal_force (applied force, N) and preload (distance, m), "
+            f"got normal_force={normal_force!r}, preload={preload!r}"
+        )
+    y0 = None if preload is None else _as_profile("preload", preload, constant_preload)
+    n_f = (
+        None
+        if normal_force is None
+        else _as_profile("normal_force", normal_force, constant_preload)
+    )
 
     prob = _TimoshenkoProblem(
         params,
         velocity=v0,
         preload=y0,
+        normal_force=n_f,
         friction=friction,
         temperature_C=temperature_C,
         mu_initial=mu_initial,
@@ -1163,9 +1395,9 @@ def simulate_timoshenko(
     scale = np.concatenate(
         [
             np.full(m, d),
-            np.ones(m),
+            np.ones(n2 - m),
             np.full(m, v_s),
-            np.full(m, v_s / d),
+            np.full(n2 - m, v_s / d),
             np.ones(prob.dim - 2 * n2),
         ]
     )
@@ -1222,6 +1454,7 @@ def simulate_timoshenko(
     meta = {
         "model": "timoshenko",
         "params": asdict(params),
+        "load": "preload distance" if preload is not None else "applied normal force",
         "friction": repr(friction),
         "method": method,
         "rtol": rtol,
