@@ -27,7 +27,11 @@ Ranges (uniform unless said)
   0.08 mm/px for the static scenes (a real FTIR photograph: 0.036 mm/px); a side view at
   least 16 mm high (the elements, base and carrier above the ice line in view), and a
   following side camera at least twice the block's 20 mm wide (the block's background is
-  seen beside it; up to 800 px wide then).
+  seen beside it; up to 800 px wide then); a following TIR camera at least 26 mm wide
+  (free surface in view before and behind the 20 mm block: a frame filled with contact
+  has nothing to measure it against); a coin at most 0.45 of the smaller side of the view
+  in radius (a dark ring cut by the frame's corners looks like the unlit outside of a lit
+  disc).
 * Clip: 40-120 frames; block: preset G0, G3, G5, G6 or G7, 0.5-3 m/s, 1.5-4 bar, steady
   state of a 4 ms model run (``dynamics="steady"``: every clip integrates the model once,
   about 0.5 s); the frame rate makes the pass of a fixed camera fill the clip (image width
@@ -122,6 +126,8 @@ def _camera(rng: np.random.Generator, case: str, *, static: bool) -> dict[str, A
         cam["mm_per_px"] = max(cam["mm_per_px"], _SIDE_VIEW_MM / cam["height_px"])
         if case == "side follow":  # the block, 20 mm long, spans at most half the width
             cam["width_px"] = max(cam["width_px"], math.ceil(2.0 * _BLOCK_MM / cam["mm_per_px"]))
+    if case == "tir follow camera":  # free surface in view before and behind the block
+        cam["width_px"] = max(cam["width_px"], math.ceil((_BLOCK_MM + 6.0) / cam["mm_per_px"]))
     fixed_path = case in ("tir passing block", "side fixed")
     cam["rotation_deg"] = _u(rng, -8.0, 8.0) if fixed_path and rng.random() >= 0.7 else 0.0
     if tir and rng.random() >= 0.25:
@@ -149,7 +155,11 @@ def _static_fields(rng: np.random.Generator, case: str, cam: dict[str, Any]) -> 
     if case == "tir static pad":
         return {"scene": "round_pad", "pad_radius_mm": _u(rng, 1.5, 4.0)}
     if case == "tir static coin":
-        outer = _u(rng, 3.0, 8.0)
+        # the coin inside the view: a dark ring cut by the frame's corners cannot be told
+        # from the unlit outside of a lit disc
+        w_mm = cam["width_px"] * cam["mm_per_px"]
+        h_mm = cam["height_px"] * cam["mm_per_px"]
+        outer = min(_u(rng, 3.0, 8.0), 0.45 * min(w_mm, h_mm))
         return {"scene": "coin", "coin_radii_mm": (outer - _u(rng, 0.3, 1.5), outer)}
     # three points, near the rim of the lit zone in half of the clips
     w_mm = cam["width_px"] * cam["mm_per_px"]
