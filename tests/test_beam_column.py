@@ -152,8 +152,8 @@ def _energy_run(p, *, normal_force=None, preload=None, t_end=2e-3):
     return energies, amplitude
 
 
-@pytest.mark.parametrize("load", ["force", "preload"])
-@pytest.mark.parametrize("k_root", [None, 2.0])
+@pytest.mark.parametrize("load", ["force", pytest.param("preload", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("k_root", [None, pytest.param(2.0, marks=pytest.mark.slow)])
 def test_energy_of_undamped_frictionless_loaded_element_is_conserved(load, k_root):
     # 12 nodes: the energy identity holds for any grid; a coarse one keeps the test fast
     p = params(
@@ -169,6 +169,7 @@ def test_energy_of_undamped_frictionless_loaded_element_is_conserved(load, k_roo
     assert np.ptp(energies) <= 1e-6 * energies[0]
 
 
+@pytest.mark.slow
 def test_printed_form_does_not_conserve_energy():
     # Eq. 5.25/5.26 as printed: a follower load that does work over a vibration cycle
     p = params(lever_arm_m=0.0, beam_column="thesis_literal", n_nodes=12)

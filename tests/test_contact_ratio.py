@@ -41,6 +41,7 @@ def test_contact_ratio_of_g0_and_g7_matches_fig_4_21():
     assert np.all(table["contact_ratio"] < table["apparent_contact_ratio"])
 
 
+@pytest.mark.slow
 def test_element_real_contact_fractions_for_the_renderer():
     a = element_real_contact_fractions("G3", 1.0, 2.5)
     assert a.shape == (4,)
