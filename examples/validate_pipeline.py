@@ -43,6 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _domain_validation import summarise, validate_clip
 
+from friction_model.geometry import reference_block
 from synthetic.domain import sample_specs
 from synthetic.footage import FootageSpec, model_contact_ratio, render_footage
 from tir_contact.analyze import AnalysisOptions, analyze_video
@@ -142,7 +143,11 @@ def run_ratio(out: Path) -> pd.DataFrame:
                            real_contact="patchy", seed=3)
         clip = render_footage(spec, out / "ratio" / preset, progress=False)
         res = analyze_video(clip, options=AnalysisOptions(overlay_frames=0, parquet=False))
-        measured = res.summary["steady"]["contact_ratio"]["mean"]
+        # the pipeline's ratio is over the element faces, the model's (and Fig. 4.21's) over
+        # the block's nominal area L w, sipes included
+        geom = reference_block(preset)
+        measured = (res.summary["steady"]["contact_ratio"]["mean"]
+                    * geom.rubber_area_mm2 / geom.nominal_area_mm2)
         model = model_contact_ratio(spec)
         rows.append({"preset": preset, "model_contact_ratio": model,
                      "measured_contact_ratio": measured, "difference": measured - model})

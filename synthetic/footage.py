@@ -76,6 +76,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
 from synthetic._camera import (
     Sensor,
@@ -465,7 +466,8 @@ class FootageSpec:
         :mod:`friction_model.dynamics.contact` (mu = 0.26 at 1 m/s), or the dry/wet model
         (:class:`friction_model.DryWetLaw`) at the given climate (much slower to integrate).
     loss_factor : float
-        Rubber loss factor tan(delta) of the element springs, in [0, 2]; 0.4 as in
+        Rubber loss factor tan(delta) of the element springs, in [0, 2]; by default the one
+        rubber's (:data:`friction_model.compound.REFERENCE_COMPOUND`, 0.2), as in
         :func:`friction_model.dynamics.contact.reference_contact_ratios`.
     center_time_s : float, optional
         Time at which the block centre passes the image centre, s; default the clip middle
@@ -553,7 +555,7 @@ class FootageSpec:
     dynamics: str = "simulated"
     settle_s: float = 0.02
     friction: str = "exponential"
-    loss_factor: float = 0.4
+    loss_factor: float = REFERENCE_COMPOUND.loss_factor
     center_time_s: float | None = None
     lateral_offset_mm: float = 0.0
     contrast: float = 0.75

@@ -21,6 +21,7 @@ import tifffile
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.geometry import reference_block
 from synthetic import footage
 from synthetic._render_tir import StepProfile
@@ -207,7 +208,7 @@ def test_simulated_dynamics_follow_the_rigid_model():
         n_elements=8,
         element_length_m=tuple((geom.element_lengths * 1e-3).tolist()),
         contact_model="face",
-        loss_factor=0.4,
+        loss_factor=REFERENCE_COMPOUND.loss_factor,  # the renderer's default: the one rubber
     )
     load = 2.5e5 * geom.nominal_area_mm2 * 1e-6
     y0 = 6e-3 - load / (params.youngs_modulus_Pa * geom.element_lengths.sum() * 0.08 / 6.0)

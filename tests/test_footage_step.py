@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.dynamics import velocity_step
 from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
 from friction_model.laws import ExponentialLaw, RelaxedFriction
@@ -53,7 +54,7 @@ def test_truth_is_the_rigid_model_with_the_step_and_relaxation(step_truth):
     # rendered tip deflection is the model's at every frame
     params = BlockParams(n_elements=4, height_m=6e-3, element_length_m=(4.55e-3,) * 4,
                          width_m=0.08, sipe_width_m=0.6e-3, contact_model="face",
-                         loss_factor=0.4)
+                         loss_factor=REFERENCE_COMPOUND.loss_factor)
     load = 2.5e5 * 20e-3 * 80e-3
     preload = 6e-3 - load / (params.youngs_modulus_Pa * 4 * 4.55e-3 * 0.08 / 6e-3)
     law = RelaxedFriction(ExponentialLaw(a1=0.15, a2=0.25, a3=-0.8), tau_s=TAU)
@@ -135,9 +136,9 @@ def test_spec_without_the_new_fields_is_unchanged():
     # with LSODA at rtol 1e-4 (synthetic.footage._RTOL); its "steady" value is the mean over
     # the last 30 % of a 4 ms run that ends inside a stick-slip cycle, so it moves with the
     # solver's steps. Tolerance 10 x rtol (1e-3 relative, ~0.01 deg, the accuracy the
-    # renderer needs): measured 10.1934 deg (scipy 1.17), 10.1961 deg (issue report) and
-    # 10.1958 deg (value frozen on an older environment) against the converged 10.19216 deg,
-    # all within 4e-4; a 1 % change of the physics fails. The front edge is a fixed 22 mm of
+    # renderer needs); a 1 % change of the physics fails (at loss factor 0.4, before the one
+    # rubber: 10.1934 deg on scipy 1.17 and 10.1961 deg on the issue's environment against
+    # the converged 10.19216 deg, all within 4e-4). The front edge is a fixed 22 mm of
     # geometry plus the tip deflection, so it carries the tip's absolute error (1e-3 x 1.08 mm).
     # With scipy 1.10 the same integration starts the slip 0.1 ms later and gives 11.03 deg
     # (+8 %): a real loss of accuracy of the rtol-1e-4 model, which this test reports.
@@ -151,9 +152,10 @@ def test_spec_without_the_new_fields_is_unchanged():
 
 #: Element 0, frame 1 of FootageSpec(view="side", n_frames=3, dynamics="steady",
 #: settle_s=0.004): deflection_angle_deg, tip_deflection_mm, front_edge_x_mm, from the same
-#: model integrated to convergence (rtol 1e-8, atol 1e-12; scipy 1.10.1 and 1.17.1 agree to
-#: 2e-8 relative, rtol 1e-6 to 3e-6).
-CONVERGED_G3_STEADY = [10.19216, 1.083475, 23.135013]
+#: model integrated to convergence (rtol 1e-8, atol 1e-12), with the one rubber's loss factor
+#: 0.2 (friction_model.compound; at 0.4 it was 10.19216 deg, 1.083475 mm, 23.135013 mm). The
+#: renderer's own rtol-1e-4 run gives 10.99973 deg (3e-6 relative) with scipy 1.17.1.
+CONVERGED_G3_STEADY = [10.99970, 1.166964, 23.226769]
 
 
 @pytest.mark.parametrize(

@@ -307,9 +307,9 @@ def ice_line_tilt_deg(image: np.ndarray, *, contact_is: str = "dark",
     right, i.e. the scene turned from +x towards +y).
 
     The image is cut into `n_strips` column strips; in each, the ice line is found as in
-    :func:`ice_line_y_px`. The line through two strips' rows that the most strips agree
-    with (within `tolerance_px`) is refined by least squares over those strips, so strips
-    that the block covers (where the strongest step is the block's top) do not count.
+    :func:`ice_line_y_px`. Strips in which the level above that step is not the backlight
+    (the block covers them) are left out. The line through two strips' rows that the most
+    strips agree with (within `tolerance_px`) is refined by least squares over those strips.
 
     Returns
     -------
@@ -326,13 +326,26 @@ def ice_line_tilt_deg(image: np.ndarray, *, contact_is: str = "dark",
     """
     _check_contact_is(contact_is)
     img = _check_image("image", image).astype(np.float32)
-    w = img.shape[1]
+    h, w = img.shape
+    # the backlight and ice levels of the whole image: a strip counts only where the level
+    # above its step is the backlight (under the block it is the rubber, and the step there
+    # is the rubber's lower edge, not the ice line)
+    whole = _row_levels(img, contact_is)
+    y_all = _step_crossing(whole)
+    back = float(np.median(whole[: max(1, int(y_all) - 3)]))
+    ice = float(np.median(whole[min(h - 1, int(y_all) + 4):]))
     edges = np.linspace(0, w, n_strips + 1).round().astype(int)
     xs, ys = [], []
     for a, b in itertools.pairwise(edges):
         if b - a >= 2:
-            xs.append(0.5 * (a + b - 1))
-            ys.append(_step_crossing(_row_levels(img[:, a:b], contact_is)))
+            prof = _row_levels(img[:, a:b], contact_is)
+            y = _step_crossing(prof)
+            above = float(np.median(prof[max(0, int(y) - 10): max(1, int(y) - 3)]))
+            if abs(above - back) <= 0.25 * abs(back - ice):
+                xs.append(0.5 * (a + b - 1))
+                ys.append(y)
+    if len(xs) < 4:
+        return math.nan
     x, y = np.array(xs), np.array(ys)
     best = np.zeros(len(x), bool)
     for i, j in itertools.combinations(range(len(x)), 2):
