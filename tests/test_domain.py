@@ -106,7 +106,9 @@ def test_near_rim_points_lie_near_the_lit_rim(draws):
     assert checked > 0
 
 
-@pytest.mark.parametrize("case", CASE_CLASSES)
+@pytest.mark.parametrize("case", [
+    c if c in ("tir static pad", "side follow") else pytest.param(c, marks=pytest.mark.slow)
+    for c in CASE_CLASSES])  # two classes in the default run, the rest with -m slow
 def test_each_case_class_renders(draws, case):
     spec = next(s for s, c in draws if c == case)
     short = dataclasses.replace(spec, n_frames=2)

@@ -223,7 +223,8 @@ def test_whole_lit_frame_has_no_rim():
 
 
 # -- the same cases from the package's own renderer -------------------------------------------
-@pytest.mark.parametrize("name", ["round pad", "three points"])
+@pytest.mark.parametrize("name", ["round pad",
+                                  pytest.param("three points", marks=pytest.mark.slow)])
 def test_real_photograph_classes_from_the_renderer(tmp_path, name):
     """The two real FTIR photographs as rendered by synthetic.domain.real_photo_specs (8-bit
     JPEG 640 x 512, lit disc of 28 %, peak grey about 100): area within 5 % of the truth
@@ -242,7 +243,8 @@ def test_real_photograph_classes_from_the_renderer(tmp_path, name):
     assert res.summary["camera"] == "follows"
 
 
-@pytest.mark.parametrize(("preset", "ratio"), [("G0", 0.70), ("G7", 0.25)])
+@pytest.mark.parametrize(("preset", "ratio"), [
+    pytest.param("G0", 0.70, marks=pytest.mark.slow), ("G7", 0.25)])
 def test_patchy_block_contact_ratio_from_the_renderer(preset, ratio, tmp_path):
     """Patchy real contact of a passing block, rendered from the friction model's real
     contact fraction: the pipeline's steady contact ratio within 0.05 of the model's (the

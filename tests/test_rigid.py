@@ -455,6 +455,7 @@ def test_velocity_step_lowers_deflection_with_the_relaxation_lag():
     assert lags["steady"] < tau / 10
 
 
+@pytest.mark.slow
 def test_rough_surface_second_pass_deflects_more():
     # Fig. 5.6: a rough profile passed twice. The elements meet the bumps one after another;
     # on the first pass the friction is still building up (Eq. 5.12 from the start of

@@ -284,6 +284,7 @@ def test_bright_rubber_sliding_right_with_the_ice_line():
     _check_case(spec, elements, blocks)
 
 
+@pytest.mark.slow
 def test_simulated_dynamics_without_reference():
     # self-excited oscillations: the elements differ frame to frame, so a wrong element
     # index or a stale value shows; a short clip centred on the block, darkness without a

@@ -151,11 +151,11 @@ def free_surface(
 
     Examples
     --------
-    >>> yy, xx = np.mgrid[:240, :320]
-    >>> light = 200.0 - 0.002 * ((xx - 160) ** 2 + (yy - 120) ** 2)  # vignetted
-    >>> contact = (xx - 150) ** 2 + (yy - 110) ** 2 < 70 ** 2        # 140 px across
-    >>> fs = free_surface(np.where(contact, 0.3 * light, light))
-    >>> fs.size_px > 140, float(np.abs(fs.image / light - 1).max()) < 0.05
+    >>> yy, xx = np.mgrid[:120, :160]
+    >>> light = 200.0 - 0.008 * ((xx - 80) ** 2 + (yy - 60) ** 2)  # vignetted
+    >>> contact = (xx - 75) ** 2 + (yy - 55) ** 2 < 35 ** 2        # 70 px across
+    >>> fs = free_surface(np.where(contact, 0.3 * light, light), size_px=31)
+    >>> fs.size_px > 70, float(np.abs(fs.image / light - 1).max()) < 0.05
     (True, True)
     """
     img = np.asarray(image, dtype=np.float32)
