@@ -103,7 +103,11 @@ def test_no_relaxation_reaches_the_new_level_within_a_few_ms():
     # stick-slip burst whose phase follows the integrator's step choice (at 5 ms 0.0 %,
     # 12.7 % and 5.2 % of the step off the new level at rtol 1e-4, 1e-5, 1e-6); from 8 ms on
     # every tolerance is within 0.5 %, so 5 % there is a margin of ten
-    spec = _step_spec(friction_relaxation_s=0.0, velocity_mps=3.0, n_frames=61)
+    # A rubber damped at tan(delta) = 0.4: with the one rubber's 0.2 the element at 3 m/s
+    # stays in a stick-slip cycle after the step (Eq. 5.7 falls with the velocity) and has no
+    # new level to settle on; this control is about the element's settling, not the rubber.
+    spec = _step_spec(friction_relaxation_s=0.0, velocity_mps=3.0, n_frames=61,
+                      loss_factor=0.4)
     truth = _truth(spec)
     t = truth["time_s"].to_numpy() - T_STEP
     a = truth["deflection_angle_deg"].to_numpy()
