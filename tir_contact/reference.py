@@ -41,7 +41,7 @@ import cv2
 import numpy as np
 
 from tir_contact.calibrate import Reference
-from tir_contact.illumination import LitZone
+from tir_contact.illumination import LitZone, _fill_holes
 
 __all__ = [
     "CAMERA_MODES",
@@ -110,13 +110,6 @@ def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
     return np.maximum(closed, smooth)  # a closing never lies below the image
 
 
-def _fill_holes(mask: np.ndarray) -> np.ndarray:
-    inverse = (~mask).astype(np.uint8)
-    _, labels = cv2.connectedComponents(inverse, connectivity=4)
-    border = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
-    return ~np.isin(labels, border[border > 0]) & ~(inverse.astype(bool) & (labels == 0))
-
-
 def free_surface(
     image: np.ndarray,
     lit: np.ndarray | None = None,
@@ -174,7 +167,7 @@ def free_surface(
         closed = _closing(smooth, size)
         with np.errstate(divide="ignore", invalid="ignore"):
             d = 1.0 - smooth / np.maximum(closed, 1e-6)
-        cand = _fill_holes((d > candidate_darkness) & lit_mask)
+        cand = _fill_holes(((d > candidate_darkness) & lit_mask).astype(np.uint8)).astype(bool)
         widest = 0.0
         if cand.any():
             dist = cv2.distanceTransform(cand.astype(np.uint8), cv2.DIST_L2, 5)
