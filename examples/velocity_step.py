@@ -6,10 +6,10 @@ accelerated to v2 = 5 m/s at t1 = 0.2 s (within 20 ms). The decreasing character
 of the friction coefficient (Eq. 5.12, tau = 30 ms) the angles follow the new level with
 that lag; without it they drop within the ~1 ms of the element dynamics.
 
-Scenario (as in ``tests/test_rigid.py``): penalty springs spread over the bottom face
-("face" contact), c_N = 5e4 N/m so that y0 = 5.1 mm gives 45 N per element (1.2 bar),
-loss factor 0.4 (winter compound at ~1 kHz, -5 degC), Eq. 5.7 with a1 = 0.2, a2 = 0.15,
-a3 = -0.3 s/m.
+Scenario (as in ``tests/test_rigid.py``, but with the one rubber): penalty springs spread
+over the bottom face ("face" contact), c_N = 5e4 N/m so that y0 = 5.1 mm gives 45 N per
+element (1.2 bar), the one rubber's loss factor (friction_model.compound, 0.2; the test
+uses 0.4), Eq. 5.7 with a1 = 0.2, a2 = 0.15, a3 = -0.3 s/m.
 
 Run: ``python examples/velocity_step.py``; writes
 ``examples/out/velocity_step/velocity_step.png`` and ``velocity_step.csv``.
@@ -37,7 +37,6 @@ params = BlockParams(
     element_length_m=4.55e-3,
     contact_model="face",
     contact_stiffness_N_m=5e4,
-    loss_factor=0.4,
 )
 law = ExponentialLaw(a1=0.2, a2=0.15, a3=-0.3)
 velocity = velocity_step(1.0, 5.0, T_STEP, rise_s=0.02)

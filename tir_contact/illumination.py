@@ -19,7 +19,8 @@ percentile over frames):
    the zone are dark holes in it: a closing with a disc of 3 % of the image and a hole
    fill put them back; bright specks smaller than 0.5 % of the frame are dropped; the rest
    is replaced by its convex hull, which closes the notches of contacts at the rim and
-   joins the pieces a contact across the zone cuts.
+   joins the pieces a contact across the zone cuts; where the seen rim is an ellipse (a lit
+   disc or ellipse), the ellipse fitted to it continues the rim under such contacts.
 4. The rim is the band of ``rim_px`` (default 1 % of the image's long side) inside the
    zone's edge; contact regions that touch it are flagged, since part of them may lie
    where there is too little light to see them.
@@ -172,7 +173,7 @@ def find_lit_zone(
         # rim across a lit band) cuts it in pieces: the hull of all pieces restores it
         hull = np.zeros_like(lit)
         cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
-        lit = hull
+        lit = hull | _ellipse_through_rim(lit, hull)
     lit = lit.astype(np.float32)
     if scale < 1.0:
         lit = cv2.resize(lit, (w, h), interpolation=cv2.INTER_LINEAR)
@@ -182,6 +183,49 @@ def find_lit_zone(
     rim = _rim(mask, max(2, round(0.01 * max(h, w))) if rim_px is None else rim_px)
     method = "whole frame" if mask.all() else "found"
     return LitZone(mask, rim, method, bright, black)
+
+
+#: An ellipse fitted to the rim is kept when its points lie within this of it (px, on the
+#: shrunk working image) in the median, and 2.5 times that at the 90th percentile.
+ELLIPSE_FIT_PX = 0.75
+
+
+def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray) -> np.ndarray:
+    """The ellipse through the zone's rim, where the rim is an ellipse (uint8 0/1, or zeros).
+
+    A contact that reaches the rim hides the rim behind it, and the hull cuts across the
+    contact along a chord. The rim's points that are seen (on both the zone's edge and the
+    hull's, away from the image border) are fitted with an ellipse; where they lie on it
+    (a lit disc or ellipse), the ellipse continues the rim under the contact. A band's
+    straight rims fit no ellipse and keep the hull.
+    """
+    h, w = lit.shape
+    edge = lit & ~cv2.erode(lit, np.ones((3, 3), np.uint8), borderType=cv2.BORDER_REPLICATE)
+    hull_edge = hull & ~cv2.erode(hull, np.ones((3, 3), np.uint8),
+                                  borderType=cv2.BORDER_REPLICATE)
+    near_hull = cv2.dilate(hull_edge, np.ones((3, 3), np.uint8))
+    rim = edge & near_hull
+    rim[:2], rim[-2:], rim[:, :2], rim[:, -2:] = 0, 0, 0, 0
+    pts = cv2.findNonZero(rim)
+    none = np.zeros_like(lit)
+    if pts is None or len(pts) < 20:
+        return none
+    (cx, cy), (a, b), angle = cv2.fitEllipse(pts)
+    if not (np.isfinite([cx, cy, a, b]).all() and 0 < a and 0 < b
+            and max(a, b) < 4 * max(h, w)):
+        return none
+    # distance of the rim points from the ellipse, approximately (in its own axes)
+    t = np.radians(angle)
+    xy = pts.reshape(-1, 2).astype(np.float64) - (cx, cy)
+    u = xy[:, 0] * np.cos(t) + xy[:, 1] * np.sin(t)
+    v = -xy[:, 0] * np.sin(t) + xy[:, 1] * np.cos(t)
+    r = np.hypot(u / (a / 2), v / (b / 2))
+    dist = np.abs(r - 1.0) * 0.5 * min(a, b)
+    if np.median(dist) > ELLIPSE_FIT_PX or np.percentile(dist, 90) > 2.5 * ELLIPSE_FIT_PX:
+        return none
+    out = np.zeros_like(lit)
+    cv2.ellipse(out, ((cx, cy), (a, b), angle), 1, thickness=-1)
+    return out
 
 
 def _fill_holes(mask: np.ndarray) -> np.ndarray:
