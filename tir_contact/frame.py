@@ -39,7 +39,7 @@ from tir_contact.side import ice_line_y_px, level_image, side_darkness, side_fra
 __all__ = ["FrameAnalyser", "FrameResult", "analyze_frame"]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class FrameResult:
     """What one frame gave.
 
@@ -194,13 +194,14 @@ class FrameAnalyser:
         row["n_regions"] = contact.n_regions
         row["block_fully_in_view"] = row["block_in_view"] and fully_in_view(
             row["block_front_x_mm"], s)
-        at_rim = self._at_rim(contact)
-        row["contact_at_lit_rim"] = bool(at_rim[1:].any())
+        at_rim = self._at_rim(contact) if self._rim is not None else None
+        row["contact_at_lit_rim"] = at_rim is not None and bool(at_rim[1:].any())
         regions = None
         if self.want_regions:
             regions = contact.region_arrays()
             regions["frame"] = np.full(contact.n_regions, k)
-            regions["at_lit_rim"] = at_rim[1:]
+            regions["at_lit_rim"] = (at_rim[1:] if at_rim is not None
+                                     else np.zeros(contact.n_regions, bool))
         return FrameResult(row, el_rows, regions, contact)
 
     def _at_rim(self, contact: FrameContact) -> np.ndarray:

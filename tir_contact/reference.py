@@ -507,8 +507,15 @@ def tir_reference(
         cand = np.zeros(shape, bool)
         if mode == "fixed" and len(frames) >= 5:
             free, method = bright, "percentile"
-            fs = free_surface(bright, mask, contact_is=contact_is, candidate_darkness=min_darkness)
-            if fs.candidates.sum() > min_block_fraction * max(1, mask.sum()):
+            # does the percentile image still hold the block (a slow pass)? One closing
+            # tells; the grown estimate only when it does
+            need = min_block_fraction * max(1, mask.sum())
+            fs = free_surface(bright, mask, contact_is=contact_is,
+                              candidate_darkness=min_darkness, grow=False)
+            if fs.candidates.sum() > need:
+                fs = free_surface(bright, mask, contact_is=contact_is,
+                                  candidate_darkness=min_darkness)
+            if fs.candidates.sum() > need:
                 free, cand = fs.image, fs.candidates
                 method = "percentile, the block it still holds replaced by a fitted surface"
         else:
