@@ -74,6 +74,8 @@ class FrameContact:
         Rows and columns of the frame that hold all contact (None without contact).
     box_labels : ndarray of int32 or None
         Region labels inside `box` (0 = no contact), numbered 1..n_regions in scan order.
+    known_counts : (ndarray, ndarray) or None
+        :attr:`line_counts`, when known already.
 
     Notes
     -----
@@ -88,6 +90,8 @@ class FrameContact:
     darkness: np.ndarray | None = field(default=None, repr=False)
     box: tuple[slice, slice] | None = None
     box_labels: np.ndarray | None = field(default=None, repr=False)
+    known_counts: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False,
+                                                              compare=False)
 
     @cached_property
     def labels(self) -> np.ndarray:
@@ -109,11 +113,14 @@ class FrameContact:
     def line_counts(self) -> tuple[np.ndarray, np.ndarray]:
         """Contact pixels per column, (N,) ndarray of int32, and per row, (M,) ndarray of int32.
 
-        :func:`label_contact` fills it in for free when it knows the counts of its input and
-        drops no region; otherwise it is summed from :attr:`box_labels` on first access.
+        :func:`label_contact` gives them (``known_counts``) when it knows the counts of its
+        input and drops no region; otherwise they are summed from :attr:`box_labels` on first
+        access.
         """
         import cv2
 
+        if self.known_counts is not None:
+            return self.known_counts
         n_rows, n_cols = self.shape
         cols = np.zeros(n_cols, np.int32)
         rows = np.zeros(n_rows, np.int32)
@@ -414,7 +421,4 @@ def _label_box(
         n_regions = int(keep.sum())
     if n_regions == 0:
         return FrameContact(raw.shape, threshold, 0, darkness)
-    contact = FrameContact(raw.shape, threshold, n_regions, darkness, box, lab)
-    if counts is not None:
-        contact.__dict__["line_counts"] = counts  # the cached property, known already
-    return contact
+    return FrameContact(raw.shape, threshold, n_regions, darkness, box, lab, counts)
