@@ -266,3 +266,16 @@ def test_patchy_block_contact_ratio_from_the_renderer(preset, ratio, tmp_path):
     model = model_contact_ratio(spec)
     assert measured == pytest.approx(model, abs=0.05)
     assert model == pytest.approx(ratio, abs=0.05)
+
+
+def test_side_view_block_wider_than_the_view_is_warned_about(tmp_path):
+    """A following side camera whose view the block fills: no angle can be measured, and
+    the summary says why (instead of only 'no block found')."""
+    from synthetic.footage import CameraSettings, FootageSpec, render_footage
+
+    spec = FootageSpec(preset="G3", view="side", follow_camera=True, n_frames=6,
+                       dynamics="steady", settle_s=0.004,
+                       camera=CameraSettings(width_px=200, height_px=200, mm_per_px=0.1))
+    res = analyze_video(render_footage(spec, tmp_path / "c", progress=False), options=FAST)
+    assert any(w.startswith("the block spans 100 % of the image width")
+               for w in res.summary["warnings"])

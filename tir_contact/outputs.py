@@ -278,7 +278,7 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
     frame shows contact or the block, gaps in the recorded frame numbers, and frames lost
     from a container that was cut short.
     """
-    out = []
+    out = list(setup.notes)
     low, high = setup.grey_range
     if high <= DARK_FOOTAGE_FRACTION * setup.max_dn:
         out.append(f"no lit field: the brightest 1 % of pixels reach grey {high:.0f} of "

@@ -181,6 +181,8 @@ class VideoSetup:
         so angles are against the ice surface's normal (0 when under 0.1 deg).
     level_valid : ndarray of bool or None
         Side view turned level: the pixels that come from inside the frame.
+    notes : list of str
+        Warnings found while preparing (``summary.json`` lists them).
     """
     meta: dict[str, Any]
     view: str
@@ -203,6 +205,7 @@ class VideoSetup:
     threshold: float = math.nan  # darkness threshold of contact (TIR)
     level_deg: float = 0.0  # side view: tilt of the ice line; frames are turned level by it
     level_valid: np.ndarray | None = None  # side view: pixels inside the frame once turned
+    notes: list[str] = field(default_factory=list)  # what the user must know (warnings)
 
 
 def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
@@ -285,11 +288,13 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
             reference, method = None, "per-frame background (no frame without the block)"
     else:
         reference, method = None, f"per-frame background ({len(samples)} frame(s) sampled)"
-    level_deg, level_valid = 0.0, None
+    level_deg, level_valid, notes = 0.0, None, []
     if view == "side":
         reference, level_deg, level_valid = _level_side(samples, reference, contact_is)
         if level_deg:
             method += f", turned level by {level_deg:+.2f} deg"
+        if reference is None:
+            notes += _wide_block_note(samples, contact_is)
     contrast = options.contrast
     if contrast is None and tref is not None:
         contrast = _contrast(samples, tref, contact_is, options)
@@ -303,7 +308,30 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         "fixed" if reference is not None else "follows")
     return VideoSetup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
                   reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
-                  grey_range, camera, tref, threshold, level_deg, level_valid)
+                  grey_range, camera, tref, threshold, level_deg, level_valid, notes)
+
+
+#: A side view without a block-free frame needs the block to leave free background beside
+#: it: above this share of the image width a warning is given (G3 in a 30 mm view, 74 %,
+#: still measures every angle; in a 20 mm view, 100 %, none).
+MAX_SIDE_BLOCK_SHARE = 0.8
+
+
+def _wide_block_note(samples: list[np.ndarray], contact_is: str) -> list[str]:
+    """A warning when the block spans too much of a following side camera's width."""
+    image = np.median(np.stack(samples[:9]).astype(np.float32), axis=0)
+    if contact_is == "bright":  # bright rubber on a dark background: mirror it
+        image = float(image.max()) - image
+    # rubber (and carrier): below half the backlight's level (the image's 95th percentile);
+    # the ice, about 0.6 of the backlight, is not
+    rubber = image < 0.5 * float(np.percentile(image, 95))
+    share = float((rubber.mean(axis=0) > 0.2).mean())
+    if share <= MAX_SIDE_BLOCK_SHARE:
+        return []
+    return [f"the block spans {100 * share:.0f} % of the image width and no frame shows the "
+            "background without it: the background of each row is estimated beside the "
+            "block, which needs free background there (widen the view, or give "
+            "--reference)"]
 
 
 #: Side views whose ice line is tilted by less than this (deg) are not turned.
