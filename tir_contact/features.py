@@ -673,29 +673,39 @@ def _nominal_px2(
     return sum(cum(b) - cum(a) for a, b in zip(lo, hi, strict=True) if b > a)
 
 
-#: The last valid-pixel count: (key, cumulative counts, the array), replaced as one object.
-_VALID_CACHE: list[Any] = [None]
+class ValidCounts:
+    """The last cumulative valid-pixel counts of one video's mask (:func:`_valid_cumsum`).
+
+    A frame analyser keeps one: the reference's mask does not change within a video, and
+    consecutive frames mostly share the rows of their contact.
+    """
+
+    __slots__ = ("key", "value")
+
+    def __init__(self) -> None:
+        self.key: tuple | None = None
+        self.value: list[int] = []
 
 
-def _valid_cumsum(valid: np.ndarray, r0: int, r1: int, flip: bool) -> list[int]:
+def _valid_cumsum(valid: np.ndarray, r0: int, r1: int, flip: bool,
+                  cache: ValidCounts | None = None) -> list[int]:
     """Cumulative valid pixels per column within rows r0..r1-1 (mirrored when `flip`).
 
-    The last result is kept for the same array object and rows (the reference's mask does
-    not change within a video); a new array object recomputes it.
+    With `cache` (one per video and mask), the last result is reused for the same rows.
     """
     import cv2
 
-    key = (id(valid), valid.shape, r0, r1, flip)
-    entry = _VALID_CACHE[0]
-    if entry is not None and entry[0] == key and entry[2] is valid:
-        return entry[1]
+    key = (valid.shape, r0, r1, flip)
+    if cache is not None and cache.key == key:
+        return cache.value
     v8 = valid[r0:r1]
     v8 = v8.view(np.uint8) if v8.dtype == np.bool_ else (v8 != 0).view(np.uint8)
     if not v8.flags.c_contiguous:
         v8 = np.ascontiguousarray(v8)
     vc = cv2.reduce(v8, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
     out = np.concatenate([[0], np.cumsum(vc[::-1] if flip else vc)]).tolist()
-    _VALID_CACHE[0] = (key, out, valid)
+    if cache is not None:
+        cache.key, cache.value = key, out
     return out
 
 
@@ -781,12 +791,13 @@ def _frame_rows(
     time_s: float | None,
     peak_window_mm: float,
     sums: ColumnSums | None = None,
+    valid_counts: ValidCounts | None = None,
 ) -> tuple[dict[str, float | int | bool], list[tuple]]:
     """:func:`tir_frame_records` without the checks, the elements as a list of tuples.
 
     The tuples hold the fields of :data:`ELEMENT_DTYPE` in order (a batch builds one record
     array at the end instead of one per frame). `sums`: column sums of `d` already taken
-    (see :func:`_column_mean`).
+    (see :func:`_column_mean`); `valid_counts`: the video's cache of valid-pixel counts.
     """
     px = layout.mm_per_px
     n_cols = d.shape[1]
@@ -893,7 +904,7 @@ def _frame_rows(
                      liftoff, angle, tip))
     frame["n_elements_in_contact"] = len(rows)
     if valid is not None:
-        vcum = _valid_cumsum(valid, r0, r1, flip)
+        vcum = _valid_cumsum(valid, r0, r1, flip, valid_counts)
         span = 0.0
     else:
         vcum = None

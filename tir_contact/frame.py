@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
-from tir_contact.features import EDGE_MARGIN_PX, _element_records, _frame_rows
+from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, _element_records, _frame_rows
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup
 from tir_contact.segment import FrameContact, _box_and_counts, _label_box, segment_frame
@@ -131,6 +131,7 @@ class FrameAnalyser:
         )
         self._threshold = setup.threshold
         self._fast = fast
+        self._valid_counts = ValidCounts()  # the reference's mask is fixed within a video
         self._raw_tests: dict[str, RawContactTest | None] = {}  # by dtype character
         self._raw_buf: np.ndarray | None = None
         self._box = (
@@ -188,7 +189,8 @@ class FrameAnalyser:
         s = self.setup
         t = k / s.fps
         d, contact, sums = self.segment(frame)
-        row, el_rows = _frame_rows(d, contact, s.layout, self.normalise.valid, t, 1.0, sums)
+        row, el_rows = _frame_rows(d, contact, s.layout, self.normalise.valid, t, 1.0, sums,
+                                   self._valid_counts)
         row["frame"] = k
         row["time_s"] = t
         row["n_regions"] = contact.n_regions
