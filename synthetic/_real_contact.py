@@ -41,6 +41,8 @@ from typing import Any
 import numpy as np
 from scipy.ndimage import gaussian_filter
 
+from synthetic._render_tir import pressure_cells
+
 __all__ = [
     "SUPERSAMPLE",
     "PatchTexture",
@@ -187,60 +189,6 @@ class StaticScene:
         r0 = max(math.floor((c[:, 1].min() - r) / mm_per_px) - 1, 0)
         r1 = min(math.ceil((c[:, 1].max() + r) / mm_per_px) + 1, height_px)
         return (r0, max(r0, r1)), (c0, max(c0, c1))
-
-
-def pressure_cells(frame: Any, contacts: list[Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Cells of the block's contact pressure along ``xi`` (as drawn for patchy contact).
-
-    Parameters
-    ----------
-    frame : ElementFrame
-    contacts : list of ElementContact
-
-    Returns
-    -------
-    nodes : (n + 1,) ndarray
-        Cell boundaries, mm (``xi``).
-    pressure : (n,) ndarray
-        Midpoint pressure of each cell, Pa (0 in the gaps between elements).
-    element : (n,) ndarray of int
-        Element of each cell (-1 in the gaps).
-
-    Notes
-    -----
-    The same cells as :func:`synthetic._render_tir.block_profile` (a trailing footprint that
-    overlaps its neighbour starts where the neighbour ends).
-    """
-    front = frame.front_corner_mm
-    nodes_all: list[np.ndarray] = []
-    p_all: list[np.ndarray] = []
-    e_all: list[np.ndarray] = []
-    last = -math.inf
-    for i, c in enumerate(contacts):
-        if c.nodes_mm.size < 2:
-            continue
-        xs = front[i] + c.nodes_mm
-        p = c.pressure_Pa
-        if xs[0] < last:
-            keep = xs > last
-            if not keep.any():
-                continue
-            p = np.concatenate([[np.interp(last, xs, p)], p[keep]])
-            xs = np.concatenate([[last], xs[keep]])
-        if nodes_all:
-            p_all.append(np.zeros(1))
-            e_all.append(np.full(1, -1))
-        nodes_all.append(xs)
-        p_all.append(0.5 * (p[1:] + p[:-1]))
-        e_all.append(np.full(xs.size - 1, i))
-        last = xs[-1]
-    if not nodes_all:
-        return np.zeros(1), np.zeros(0), np.zeros(0, dtype=np.intp)
-    return (
-        np.concatenate(nodes_all),
-        np.concatenate(p_all),
-        np.concatenate(e_all).astype(np.intp),
-    )
 
 
 def real_fraction(pressure_Pa: np.ndarray) -> np.ndarray:

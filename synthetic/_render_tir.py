@@ -58,6 +58,7 @@ __all__ = [
     "block_row",
     "element_contacts",
     "ice_transmission",
+    "pressure_cells",
     "render_tir_signal",
     "tir_truth_rows",
     "visible_area",
@@ -388,11 +389,42 @@ def block_profile(
     """The darkness of the whole block along ``xi`` as one :class:`StepProfile`.
 
     Cells take the darkness at their midpoint pressure (the mean of the node pressures); the
-    gaps between element contacts are cells of zero darkness.
+    gaps between element contacts are cells of zero darkness (:func:`pressure_cells`).
+    """
+    nodes, p_mid, element = pressure_cells(frame, contacts)
+    if not p_mid.size:
+        return StepProfile(nodes, p_mid)
+    return StepProfile(nodes, np.where(element >= 0, params.darkness(p_mid), 0.0))
+
+
+def pressure_cells(
+    frame: ElementFrame, contacts: list[ElementContact]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cells of the block's contact pressure along ``xi`` (as drawn for patchy contact).
+
+    Parameters
+    ----------
+    frame : ElementFrame
+    contacts : list of ElementContact
+
+    Returns
+    -------
+    nodes : (n + 1,) ndarray
+        Cell boundaries, mm (``xi``).
+    pressure : (n,) ndarray
+        Midpoint pressure of each cell, Pa (0 in the gaps between elements).
+    element : (n,) ndarray of int
+        Element of each cell (-1 in the gaps).
+
+    Notes
+    -----
+    A trailing footprint that overlaps its neighbour starts where the neighbour ends. The
+    cells of :func:`block_profile` and of the patchy contact.
     """
     front = frame.front_corner_mm
     nodes_all: list[np.ndarray] = []
-    vals_all: list[np.ndarray] = []
+    p_all: list[np.ndarray] = []
+    e_all: list[np.ndarray] = []
     last = -math.inf
     for i, c in enumerate(contacts):
         if c.nodes_mm.size < 2:
@@ -406,15 +438,21 @@ def block_profile(
                 continue
             p = np.concatenate([[np.interp(last, xs, p)], p[keep]])
             xs = np.concatenate([[last], xs[keep]])
-        p_mid = 0.5 * (p[1:] + p[:-1])
         if nodes_all:
-            vals_all.append(np.zeros(1))  # the gap cell up to this element
+            p_all.append(np.zeros(1))
+            e_all.append(np.full(1, -1))
         nodes_all.append(xs)
-        vals_all.append(params.darkness(p_mid))
+        p_all.append(0.5 * (p[1:] + p[:-1]))
+        e_all.append(np.full(xs.size - 1, i))
         last = xs[-1]
     if not nodes_all:
-        return StepProfile(np.zeros(1), np.zeros(0))
-    return StepProfile(np.concatenate(nodes_all), np.concatenate(vals_all))
+        return np.zeros(1), np.zeros(0), np.zeros(0, dtype=np.intp)
+    return (
+        np.concatenate(nodes_all),
+        np.concatenate(p_all),
+        np.concatenate(e_all).astype(np.intp),
+    )
+
 
 
 @dataclass(frozen=True)
