@@ -33,7 +33,7 @@ from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, _element_records, _frame_rows
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup
-from tir_contact.segment import FrameContact, _box_and_counts, _label_box, segment_frame
+from tir_contact.segment import FrameContact, _box_and_counts, _label_box, label_contact
 from tir_contact.side import ice_line_y_px, level_image, side_darkness, side_frame_features
 
 __all__ = ["FrameAnalyser", "FrameResult", "analyze_frame"]
@@ -165,8 +165,7 @@ class FrameAnalyser:
             raw = test(frame, out=self._raw_buf)
         if raw is None:  # the plain path: the whole frame's darkness, thresholded
             d = self.normalise(frame)
-            contact = segment_frame(d, contrast=2.0 * self._threshold,
-                                    min_darkness=self.options.min_darkness,
+            contact = label_contact(d >= self._threshold, self._threshold, d,
                                     min_area_px=self.options.min_area_px)
             return d, contact, None
         box, counts = _box_and_counts(raw)

@@ -70,14 +70,6 @@ class LitZone:
         """Fraction of the frame that is lit."""
         return float(self.mask.mean())
 
-    def touches_rim(self, labels: np.ndarray, n_labels: int) -> np.ndarray:
-        """Which labelled regions (1..n_labels) touch the rim: ``(n_labels + 1,)`` bool."""
-        out = np.zeros(n_labels + 1, bool)
-        if self.rim.any():
-            out[np.unique(labels[self.rim])] = True
-        out[0] = False
-        return out
-
 
 def whole_frame(shape: tuple[int, int]) -> LitZone:
     """A lit zone covering the whole frame (no rim)."""

@@ -290,11 +290,14 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         reference, method = None, f"per-frame background ({len(samples)} frame(s) sampled)"
     level_deg, level_valid, notes = 0.0, None, []
     if view == "side":
-        reference, level_deg, level_valid = _level_side(samples, reference, contact_is)
+        # without a reference, the median of a few samples shows the block where it stays
+        median = (np.median(np.stack(samples[:9]).astype(np.float32), axis=0)
+                  if reference is None else None)
+        reference, level_deg, level_valid = _level_side(median, reference, contact_is)
         if level_deg:
             method += f", turned level by {level_deg:+.2f} deg"
-        if reference is None:
-            notes += _wide_block_note(samples, contact_is)
+        if median is not None:
+            notes += _wide_block_note(median, contact_is)
     contrast = options.contrast
     if contrast is None and tref is not None:
         contrast = _contrast(samples, tref, contact_is, options)
@@ -317,9 +320,9 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
 MAX_SIDE_BLOCK_SHARE = 0.8
 
 
-def _wide_block_note(samples: list[np.ndarray], contact_is: str) -> list[str]:
-    """A warning when the block spans too much of a following side camera's width."""
-    image = np.median(np.stack(samples[:9]).astype(np.float32), axis=0)
+def _wide_block_note(image: np.ndarray, contact_is: str) -> list[str]:
+    """A warning when the block spans too much of a following side camera's width (`image`:
+    the median of some frames)."""
     if contact_is == "bright":  # bright rubber on a dark background: mirror it
         image = float(image.max()) - image
     # rubber (and carrier): below half the backlight's level (the image's 95th percentile);
@@ -338,12 +341,11 @@ def _wide_block_note(samples: list[np.ndarray], contact_is: str) -> list[str]:
 MIN_LEVEL_DEG = 0.1
 
 
-def _level_side(samples: list[np.ndarray], reference: Reference | None,
+def _level_side(median: np.ndarray | None, reference: Reference | None,
                 contact_is: str) -> tuple[Reference | None, float, np.ndarray | None]:
     """The side view's tilt (:func:`tir_contact.side.ice_line_tilt_deg` on the reference,
-    or on the median of the samples), and the reference turned level by it."""
-    image = reference.image if reference is not None else np.median(
-        np.stack(samples[:9]).astype(np.float32), axis=0)
+    or on `median`, the median of some samples), and the reference turned level by it."""
+    image = reference.image if reference is not None else median
     tilt = ice_line_tilt_deg(image, contact_is=contact_is)
     if not math.isfinite(tilt) or abs(tilt) < MIN_LEVEL_DEG:
         return reference, 0.0, None

@@ -33,6 +33,7 @@ signal (read noise plus shot noise, ``var = a + b I``), so the darkness noise
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
@@ -400,15 +401,14 @@ def _median(frames: list[np.ndarray]) -> np.ndarray:
     return np.asarray(pixelwise_percentile(frames, 50.0), np.float32)
 
 
-def _moving(samples: list[np.ndarray], base: np.ndarray, lit: np.ndarray,
+def _moving(samples: list[np.ndarray], median: np.ndarray, base: np.ndarray, lit: np.ndarray,
             min_darkness: float, min_fraction: float, contact_is: str = "dark") -> bool:
     """True when some sampled frame differs from the others by a block-sized darker region.
 
-    Each frame is compared with the pixel-wise median of the samples, as darkness against
-    `base`; a 3 x 3 opening removes isolated noise pixels. A region darker by
-    `min_darkness` over more than `min_fraction` of the lit pixels means something moved.
+    Each frame is compared with `median`, the pixel-wise median of the samples, as
+    darkness against `base`; a 3 x 3 opening removes isolated noise pixels. A region darker
+    by `min_darkness` over more than `min_fraction` of the lit pixels means something moved.
     """
-    median = _median(samples)
     inv = np.where(lit, 1.0 / np.maximum(base, 1e-6), 0.0).astype(np.float32)
     need = max(16.0, min_fraction * float(lit.sum()))
     kernel = np.ones((3, 3), np.uint8)
@@ -487,10 +487,8 @@ def tir_reference(
         raise ValueError(f"contact_is must be 'dark' or 'bright', got {contact_is!r}")
     frames = [np.asarray(f) for f in samples]
     q = percentile if contact_is == "dark" else 100.0 - percentile
-    if len(frames) >= 5:
-        bright = pixelwise_percentile(frames, q).astype(np.float32)
-    else:
-        bright = _median(frames)
+    median = _median(frames)  # the moving test and a static free surface both need it
+    bright = pixelwise_percentile(frames, q).astype(np.float32) if len(frames) >= 5 else median
     shape = bright.shape
     if lit is None:
         lit = find_lit_zone(bright) if contact_is == "dark" else whole_frame(shape)
@@ -502,7 +500,7 @@ def tir_reference(
         mode = camera
         if mode == "auto":
             mode = ("fixed" if len(frames) >= 2 and _moving(
-                frames, bright, mask, min_darkness, min_block_fraction, contact_is)
+                frames, median, bright, mask, min_darkness, min_block_fraction, contact_is)
                     else "follows")
         cand = np.zeros(shape, bool)
         if mode == "fixed" and len(frames) >= 5:
@@ -519,7 +517,6 @@ def tir_reference(
                 free, cand = fs.image, fs.candidates
                 method = "percentile, the block it still holds replaced by a fitted surface"
         else:
-            median = _median(frames)
             fs = free_surface(median, mask, contact_is=contact_is)
             free, cand = fs.image, fs.candidates
             method = (f"fitted free surface ({len(frames)} frame(s); closing "
@@ -546,5 +543,4 @@ def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0) ->
     """
     sigma = tref.noise.sigma_darkness(tref.reference.image)
     valid = tref.lit.mask & (n_sigma * sigma <= threshold)
-    ref = Reference(tref.reference.image, valid, tref.reference.method, tref.reference.n_frames)
-    return TirReference(ref, tref.lit, tref.camera, tref.method, tref.noise, tref.candidates)
+    return dataclasses.replace(tref, reference=dataclasses.replace(tref.reference, valid=valid))
