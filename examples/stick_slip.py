@@ -19,17 +19,16 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import math
 from dataclasses import replace
 
 import matplotlib.pyplot as plt
 import numpy as np
-import scipy.linalg
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.dynamics import velocity_ramp
-from friction_model.dynamics.timoshenko import TimoshenkoParams, _system, simulate_timoshenko
+from friction_model.dynamics.stick_slip import loaded_mode_at_own_modulus_Hz
+from friction_model.dynamics.timoshenko import TimoshenkoParams, simulate_timoshenko
 
 F_THESIS_HZ = 1111.0
 F_RIG_HZ = 1500.0
@@ -60,18 +59,7 @@ def law_for(k4: float) -> ArctanExponentialLaw:
     ).law
 
 
-def loaded_first_frequency(E: float) -> float:
-    s = _system(replace(base, E_Pa=E))
-    w2 = scipy.linalg.eigvals(((s.K - N * s.G).toarray()) / s.mass[:, None]).real
-    return float(np.sqrt(np.min(w2[w2 > 0])) / (2 * math.pi))
-
-
-f1 = 500.0
-for _ in range(100):
-    f_new = loaded_first_frequency(rubber.storage_modulus_Pa(f1))
-    if abs(f_new - f1) < 1e-9 * f1:
-        break
-    f1 = f_new
+f1 = loaded_mode_at_own_modulus_Hz(base, N, rubber.storage_modulus_Pa)
 E = rubber.storage_modulus_Pa(f1)
 K_I = rubber.kelvin_voigt_s(f1)
 

@@ -33,7 +33,6 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-import scipy.linalg
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import (
@@ -44,9 +43,9 @@ from friction_model.compound import (
     steady_beam_column,
 )
 from friction_model.dynamics import predict_stick_slip, velocity_ramp
+from friction_model.dynamics.stick_slip import loaded_mode_at_own_modulus_Hz
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
-    _system,
     buckling_load,
     simulate_timoshenko,
 )
@@ -156,18 +155,7 @@ print(f"base compliance from the measured {MEASURED_DEFLECTION_M * 1e3} mm: {roo
 
 
 # -- stick-slip: first mode of the loaded element at its own modulus -------------------------
-def loaded_first_frequency(E: float) -> float:
-    s = _system(replace(element, E_Pa=E))
-    w2 = scipy.linalg.eigvals(((s.K - N * s.G).toarray()) / s.mass[:, None]).real
-    return float(np.sqrt(np.min(w2[w2 > 0])) / (2 * math.pi))
-
-
-f_mode = 500.0
-for _ in range(100):
-    f_new = loaded_first_frequency(rubber.storage_modulus_Pa(f_mode))
-    if abs(f_new - f_mode) < 1e-9 * f_mode:
-        break
-    f_mode = f_new
+f_mode = loaded_mode_at_own_modulus_Hz(element, N, rubber.storage_modulus_Pa)
 E_f = rubber.storage_modulus_Pa(f_mode)
 k_i = rubber.kelvin_voigt_s(f_mode)
 print(f"loaded first mode at E(f): {f_mode:.0f} Hz (E = {E_f / 1e6:.2f} MPa, k_i = {k_i:.3g} s)")

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import replace
 from functools import lru_cache
 from typing import Any
@@ -33,6 +34,7 @@ __all__ = [
     "PREDICTED_EXTRA_MODULUS_HZ",
     "PREDICTED_STICK_SLIP_HZ",
     "loaded_first_frequency_Hz",
+    "loaded_mode_at_own_modulus_Hz",
     "predict_stick_slip",
 ]
 
@@ -94,6 +96,23 @@ def loaded_first_frequency_Hz(params: Any, normal_force_N: float) -> float:
     return float(math.sqrt(np.min(w2[w2 > 0])) / (2.0 * math.pi))
 
 
+def loaded_mode_at_own_modulus_Hz(params: Any, normal_force_N: float,
+                                  modulus_Pa: Callable[[float], float],
+                                  *, start_Hz: float = 500.0) -> float:
+    """The loaded first mode of an element whose modulus depends on the frequency, Hz.
+
+    The fixed point ``f = loaded_first_frequency_Hz(params with E = modulus_Pa(f), N)``,
+    iterated from `start_Hz` to a relative change below 1e-9 (at most 200 steps).
+    """
+    f = float(start_Hz)
+    for _ in range(200):
+        f_new = loaded_first_frequency_Hz(replace(params, E_Pa=modulus_Pa(f)), normal_force_N)
+        if abs(f_new - f) < 1e-9 * f:
+            return f_new
+        f = f_new
+    return f
+
+
 def predict_stick_slip(
     *,
     k4_s_per_m: float = K4_CENTRAL_S_PER_M,
@@ -136,13 +155,7 @@ def predict_stick_slip(
         extra = float(modulus_ratio(f, strength=s_extra)) if s_extra > 0 else 1.0
         return float(compound.storage_modulus_Pa(f)) * extra
 
-    f = 500.0
-    for _ in range(200):
-        f_new = loaded_first_frequency_Hz(replace(base, E_Pa=modulus(f)), N)
-        if abs(f_new - f) < 1e-9 * f:
-            f = f_new
-            break
-        f = f_new
+    f = loaded_mode_at_own_modulus_Hz(base, N, modulus)
     E = modulus(f)
     k_i = compound.kelvin_voigt_s(f)
     p = replace(base, E_Pa=E, kelvin_voigt_s=k_i)
