@@ -37,7 +37,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-__all__ = ["LitZone", "find_lit_zone", "lit_zone_from_file", "whole_frame"]
+__all__ = ["LitZone", "find_lit_zone", "lit_zone_from_file", "shrink", "whole_frame"]
 
 #: Long side, px, of the shrunk image the zone is found on.
 _WORK_PX = 256
@@ -69,6 +69,18 @@ class LitZone:
     def fraction(self) -> float:
         """Fraction of the frame that is lit."""
         return float(self.mask.mean())
+
+
+def shrink(image: np.ndarray) -> tuple[np.ndarray, float]:
+    """`image` (float32) reduced by area means to about 256 px on its long side (itself when
+    smaller), and the scale factor used: the working image of the lit zone and the
+    free-surface closing."""
+    h, w = image.shape
+    scale = min(1.0, _WORK_PX / max(h, w))
+    if scale >= 1.0:
+        return image, 1.0
+    size = (max(1, round(w * scale)), max(1, round(h * scale)))
+    return cv2.resize(image, size, interpolation=cv2.INTER_AREA), scale
 
 
 def whole_frame(shape: tuple[int, int]) -> LitZone:
@@ -135,9 +147,7 @@ def find_lit_zone(
     if not 0.0 < level_fraction < 1.0:
         raise ValueError(f"level_fraction must lie in (0, 1), got {level_fraction!r}")
     h, w = img.shape
-    scale = min(1.0, _WORK_PX / max(h, w))
-    small = cv2.resize(img, (max(1, round(w * scale)), max(1, round(h * scale))),
-                       interpolation=cv2.INTER_AREA) if scale < 1.0 else img.copy()
+    small, scale = shrink(img)
     small = cv2.medianBlur(small, 5)
     small = cv2.GaussianBlur(small, (0, 0), 1.5)
     bright = float(np.percentile(small, 99.5))

@@ -42,7 +42,7 @@ import cv2
 import numpy as np
 
 from tir_contact.calibrate import Reference
-from tir_contact.illumination import LitZone, _fill_holes
+from tir_contact.illumination import LitZone, _fill_holes, shrink
 
 __all__ = [
     "CAMERA_MODES",
@@ -55,7 +55,6 @@ __all__ = [
     "tir_reference",
 ]
 
-_WORK_PX = 256
 #: Smoothing of the image (Gaussian sigma, px) before the free surface is estimated.
 SMOOTH_SIGMA_PX = 1.5
 #: Margin (px) around the contact candidates where the closing replaces the image.
@@ -90,9 +89,7 @@ class FreeSurface:
 def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
     """Grey closing with a disc of `size_px`, on a shrunk copy, back at full size."""
     h, w = smooth.shape
-    scale = min(1.0, _WORK_PX / max(h, w))
-    small = (cv2.resize(smooth, (max(1, round(w * scale)), max(1, round(h * scale))),
-                        interpolation=cv2.INTER_AREA) if scale < 1.0 else smooth)
+    small, scale = shrink(smooth)
     d = max(3, round(size_px * scale) | 1)
     disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d))
     # The image is extended past its border by odd reflection (2 f(border) - f(inside)),
