@@ -38,6 +38,7 @@ from collections import Counter
 
 import numpy as np
 
+from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES
 from friction_model.discrepancy import (
     Candidate,
     ParameterSpec,
@@ -47,7 +48,6 @@ from friction_model.discrepancy import (
     unregister_candidate,
 )
 from friction_model.discrepancy import steady as steady_module
-from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES
 from synthetic.effect_size import (
     strength_for_effect_size,
     strength_for_transient_effect_size,

@@ -2,7 +2,7 @@
 
 The touching part of each element face (rigid block model, the one rubber) times the real
 contact fraction of the dry/wet model at the local pressure
-(:func:`friction_model.drywet.real_contact_fraction`, the function the synthetic renderer
+(:func:`friction_model.contact.drywet.real_contact_fraction`, the function the synthetic renderer
 uses too). Predicted, not fitted: compare G0 and G7 with the thesis's ~0.70 and ~0.25.
 
 Run: ``python examples/contact_ratio.py`` (about 25 s); writes a CSV and a bar chart to

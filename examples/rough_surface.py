@@ -31,12 +31,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
 from friction_model.dynamics.rigid import (
     BlockParams,
     element_surface_profiles,
     simulate_block_dynamics,
 )
-from friction_model.laws import ExponentialLaw, RelaxedFriction
 
 out = Path(__file__).parent / "out" / "rough_surface"
 out.mkdir(parents=True, exist_ok=True)

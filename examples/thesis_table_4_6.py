@@ -13,7 +13,7 @@ scatter of the Table 4.6 measurements about the calibrated model) on the Table 4
 G3, 2.5 and 5 bar, 1..7 m/s, at -5 degC / 40 % (cold-dry) and -1 degC / 95 % (warm-humid;
 the table gives the humidities only as bounds, the calibration takes 40 % and 95 %). Hidden
 in it: ``humidity_water_layer`` and ``viscous_shear`` at strength 1, the calibrated
-model's physics (:class:`friction_model.effects.Effects`); the other effects are off
+model's physics (:class:`friction_model.contact.effects.Effects`); the other effects are off
 (salinity 0 %; no ice preheating). Nothing in the table says so. The base model of the
 workflow (:class:`friction_model.discrepancy.SteadyProblem`) is the calibrated dry/wet
 model with every effect off, plus one fitted level factor. The humidity layer changes mu
@@ -45,8 +45,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from friction_model.calibration import TABLE_4_6, table_4_6_targets
 from friction_model.discrepancy import SteadyProblem, run_discrepancy, write_result
+from friction_model.identification.table_4_6 import TABLE_4_6, table_4_6_targets
 from synthetic.measurements import DEFAULT_NOISE, make_steady_table
 
 HIDDEN = {"humidity_water_layer": 1.0, "viscous_shear": 1.0}

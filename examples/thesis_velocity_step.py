@@ -8,7 +8,7 @@ measurement made by the image pipeline:
    block at 2.5 bar stepping from 1 m/s to 5 m/s at t = 40 ms, simulated with the rigid
    block model (:func:`friction_model.dynamics.rigid.simulate_block_dynamics`, Eq. 5.7
    friction) *with* the relaxation of Eq. 5.12, tau = 20 ms
-   (:data:`friction_model.element_step.TAU_REF_S`); 4000 frames/s, 40 ms before and 200 ms
+   (:data:`friction_model.dynamics.element_step.TAU_REF_S`); 4000 frames/s, 40 ms before and 200 ms
    after the step (Fig. 5.7 records 0.2 s after the step).
 2. Analyse it with the pipeline (:func:`tir_contact.analyze.analyze_video`): deflection
    angle of every element in every frame (``elements.csv``).
@@ -54,7 +54,7 @@ import pandas as pd
 
 from friction_model.discrepancy import run_discrepancy, write_result
 from friction_model.discrepancy.transient import TransientProblem
-from friction_model.element_step import TAU_REF_S
+from friction_model.dynamics.element_step import TAU_REF_S
 from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from tir_contact.analyze import AnalysisOptions, analyze_video
 

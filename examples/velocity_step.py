@@ -24,9 +24,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import pandas as pd
 
+from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
 from friction_model.dynamics import velocity_step
 from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
-from friction_model.laws import ExponentialLaw, RelaxedFriction
 
 out = Path(__file__).parent / "out" / "velocity_step"
 out.mkdir(parents=True, exist_ok=True)

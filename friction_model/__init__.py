@@ -15,45 +15,31 @@ Friction laws (Eq. 2.4, 4.8, 4.9, 5.4, 5.7, 5.24) and relaxation (Eq. 5.12)
     :class:`FrictionLaw`, :class:`ConstantLaw`, :class:`DecreasingSqrtLaw`,
     :class:`IncreasingSqrtLaw`, :class:`ExponentialLaw`, :class:`ArctanExponentialLaw`,
     :class:`VenkateshLaw`, :class:`RelaxedFriction`, :func:`fit_law`, :class:`FitResult`.
-Test-rig evaluation (section 4.2.4 and 4.4), also in :mod:`friction_model.evaluation`
+Test-rig evaluation (section 4.2.4 and 4.4), also in :mod:`friction_model.rig.evaluation`
     :func:`read_run`, :func:`evaluate_steady_run`, :func:`evaluate_instationary_run`,
     :func:`evaluate_runs`, :func:`evaluate_folder`, :func:`write_outputs`,
     :func:`find_constant_velocity_window`, :func:`mean_friction_coefficients`,
     :class:`RunFormatError`, :class:`EvaluationResult`.
 Calibration (Table 4.6)
     :func:`calibrate_table_4_6`, :func:`table_4_6_targets`, :func:`evaluate_on_table_4_6`.
-Coupling and identification (section 5.4), in :mod:`friction_model.coupling`,
-:mod:`friction_model.identification`, :mod:`friction_model.params_file`
+Coupling and identification (section 5.4), in :mod:`friction_model.identification.coupling`,
+:mod:`friction_model.identification.identify`, :mod:`friction_model.params_file`
     :func:`contact_from_pipeline`, :class:`MeasuredContact`, :func:`drywet_inputs`,
     :func:`lever_arm_observations`, :func:`fit_lever_arm`, :class:`LeverArmFit`,
     :func:`identify_parameters`, :class:`IdentificationResult`, :class:`DeflectionSeries`,
     :class:`SteadyCharacteristic`, :func:`linear_element_response`,
     :func:`read_characteristic`, :func:`read_parameters`, :func:`write_parameters`,
     :class:`ParameterFileError`.
-Velocity-step element model (Eq. 5.8 linearised, Eq. 5.12), :mod:`friction_model.element_step`
+Velocity-step element model (Eq. 5.8 linearised, Eq. 5.12),
+:mod:`friction_model.dynamics.element_step`
     :func:`step_response`, :func:`step_element`, :class:`StepElement`.
 Discrepancy workflow: :mod:`friction_model.discrepancy`.
 """
 
-from friction_model.blok import dry_run_in_length, flash_temperature_rise
-from friction_model.calibration import (
-    CalibrationResult,
-    calibrate_table_4_6,
-    evaluate_on_table_4_6,
-    table_4_6_targets,
-)
 from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.conditions import Conditions
 from friction_model.constants import ICE, WATER, IceProperties, WaterProperties
-from friction_model.coupling import (
-    LeverArmFit,
-    MeasuredContact,
-    contact_from_pipeline,
-    drywet_inputs,
-    fit_lever_arm,
-    lever_arm_observations,
-)
-from friction_model.drywet import (
+from friction_model.contact.drywet import (
     BlockFriction,
     DryWetParameters,
     element_friction_table,
@@ -61,32 +47,10 @@ from friction_model.drywet import (
     real_contact_fraction,
     simulate_block,
 )
-from friction_model.drywet_law import DryWetLaw
-from friction_model.dynamics.contact import element_real_contact_fractions
-from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
-from friction_model.element_step import StepElement, step_element, step_response
-from friction_model.evaluation import (
-    EvaluationResult,
-    RunFormatError,
-    evaluate_folder,
-    evaluate_instationary_run,
-    evaluate_runs,
-    evaluate_steady_run,
-    find_constant_velocity_window,
-    mean_friction_coefficients,
-    read_run,
-    write_outputs,
-)
-from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
-from friction_model.identification import (
-    DeflectionSeries,
-    IdentificationResult,
-    SteadyCharacteristic,
-    identify_parameters,
-    linear_element_response,
-    read_characteristic,
-)
-from friction_model.laws import (
+from friction_model.contact.drywet_law import DryWetLaw
+from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
+from friction_model.contact.flash_temperature import dry_run_in_length, flash_temperature_rise
+from friction_model.contact.laws import (
     ArctanExponentialLaw,
     ConstantLaw,
     DecreasingSqrtLaw,
@@ -98,8 +62,45 @@ from friction_model.laws import (
     VenkateshLaw,
     fit_law,
 )
+from friction_model.contact.water_layer import freezing_point_depression_K, initial_water_layer_m
+from friction_model.dynamics.contact import element_real_contact_fractions
+from friction_model.dynamics.element_step import StepElement, step_element, step_response
+from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
+from friction_model.identification.coupling import (
+    LeverArmFit,
+    MeasuredContact,
+    contact_from_pipeline,
+    drywet_inputs,
+    fit_lever_arm,
+    lever_arm_observations,
+)
+from friction_model.identification.identify import (
+    DeflectionSeries,
+    IdentificationResult,
+    SteadyCharacteristic,
+    identify_parameters,
+    linear_element_response,
+    read_characteristic,
+)
+from friction_model.identification.table_4_6 import (
+    CalibrationResult,
+    calibrate_table_4_6,
+    evaluate_on_table_4_6,
+    table_4_6_targets,
+)
 from friction_model.params_file import ParameterFileError, read_parameters, write_parameters
-from friction_model.water_layer import freezing_point_depression_K, initial_water_layer_m
+from friction_model.rig.evaluation import (
+    EvaluationResult,
+    RunFormatError,
+    evaluate_folder,
+    evaluate_instationary_run,
+    evaluate_runs,
+    evaluate_steady_run,
+    find_constant_velocity_window,
+    mean_friction_coefficients,
+    read_run,
+    write_outputs,
+)
 
 __all__ = [
     "DRY_WET_EFFECTS",

@@ -1,4 +1,4 @@
-"""Private numerical helpers for :mod:`friction_model.laws`.
+"""Private numerical helpers for :mod:`friction_model.contact.laws`.
 
 Input checks shared by the friction laws, batched weighted linear least squares (used for the
 exact fit of laws that are linear in their parameters and for grid-based starting values of the

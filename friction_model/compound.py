@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
-from friction_model._validate import check_range
+from tir_common.validate import check_range
 
 logger = logging.getLogger(__name__)
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from friction_model._validate import check_nonnegative, check_positive, check_range
+from tir_common.validate import check_nonnegative, check_positive, check_range
 
 __all__ = ["Conditions"]
 

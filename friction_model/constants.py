@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from friction_model._validate import check_positive
+from tir_common.validate import check_positive
 
 __all__ = ["ICE", "WATER", "IceProperties", "WaterProperties"]
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from friction_model._validate import check_nonnegative, check_positive
+from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = ["REFERENCE_SAMPLES", "BlockGeometry", "reference_block"]
 

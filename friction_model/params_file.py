@@ -25,7 +25,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from friction_model._atomic import atomic_write, json_safe
+from tir_common.atomic import atomic_write, json_safe
 
 __all__ = [
     "SCHEMA",
@@ -206,7 +206,7 @@ def _check_section(path: Path | str, name: str, section: Any) -> dict[str, Any]:
                 f"must have n_sipes + 1 = {out['n_sipes'] + 1} entries, got {len(lengths)}",
             )
     if name == "friction_law":
-        from friction_model import laws
+        from friction_model.contact import laws
 
         cls = getattr(laws, out["law"], None)
         if not (isinstance(cls, type) and issubclass(cls, laws.FrictionLaw)):
@@ -362,7 +362,7 @@ def read_parameters(path: str | os.PathLike[str]) -> dict[str, Any]:
 
 
 def friction_law_from(parameters: Mapping[str, Any]):
-    """The :class:`~friction_model.laws.FrictionLaw` of a read parameter file.
+    """The :class:`~friction_model.contact.laws.FrictionLaw` of a read parameter file.
 
     Parameters
     ----------
@@ -374,7 +374,7 @@ def friction_law_from(parameters: Mapping[str, Any]):
     FrictionLaw or None
         None when the file has no ``friction_law`` section.
     """
-    from friction_model import laws
+    from friction_model.contact import laws
 
     section = parameters.get("friction_law")
     if section is None:

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from friction_model.blok import dry_run_in_length
+from friction_model.contact.flash_temperature import dry_run_in_length
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -93,7 +93,7 @@ def plot_table_4_6(table: pd.DataFrame, rmse: dict[str, float]) -> Figure:
     ----------
     table : pandas.DataFrame
         ``curve, velocity_mps, mu_target, mu_model`` as returned by
-        :func:`friction_model.calibration.evaluate_on_table_4_6`.
+        :func:`friction_model.identification.table_4_6.evaluate_on_table_4_6`.
     rmse : dict
         RMSE per curve (shown in the legend).
 

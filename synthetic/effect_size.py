@@ -37,11 +37,11 @@ import numpy as np
 import pandas as pd
 import scipy.optimize
 
-from friction_model._validate import check_positive
-from friction_model.drywet import DryWetParameters, friction_table
-from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
+from friction_model.contact.drywet import DryWetParameters, friction_table
+from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
 from friction_model.geometry import BlockGeometry
 from synthetic.measurements import DEFAULT_NOISE, TAU_REF_S, SteadyGrid, make_transient_table
+from tir_common.validate import check_positive
 
 __all__ = [
     "TRANSIENT_STRENGTH_MAX",
@@ -99,7 +99,7 @@ def effect_size(
     Parameters
     ----------
     effect : str
-        A dry/wet effect (:data:`friction_model.effects.DRY_WET_EFFECTS`).
+        A dry/wet effect (:data:`friction_model.contact.effects.DRY_WET_EFFECTS`).
     strength : float
         Its strength (>= 0).
     grid : SteadyGrid or mapping, optional

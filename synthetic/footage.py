@@ -500,7 +500,7 @@ class FootageSpec:
         in [0, ``duration_s``]; required with ``velocity_step_to_mps`` and only with it.
     friction_relaxation_s : float
         Time constant tau of the friction's lag behind its steady law (Eq. 5.12, as
-        :class:`friction_model.laws.RelaxedFriction`), s, in [0, 1]; 0 (the default) uses
+        :class:`friction_model.contact.laws.RelaxedFriction`), s, in [0, 1]; 0 (the default) uses
         the steady law. The model starts (``settle_s`` before frame 0) with mu at its
         steady value.
     scene : {"block", "round_pad", "coin", "three_point"}
@@ -877,10 +877,10 @@ class _ModelInput:
 @functools.lru_cache(maxsize=16)
 def _simulate(spec: _ModelInput) -> _ModelStates:
     """Integrate the rigid block model once per distinct model input (cached)."""
-    from friction_model.drywet_law import DryWetLaw
+    from friction_model.contact.drywet_law import DryWetLaw
+    from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
     from friction_model.dynamics import velocity_step
     from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
-    from friction_model.laws import ExponentialLaw, RelaxedFriction
 
     geom = spec.geometry
     lengths = geom.element_lengths * 1e-3

@@ -1,7 +1,7 @@
 """Synthetic test-rig measurement data with switchable, unannounced physical effects.
 
 Three kinds of data, each made from the friction model with a chosen set of named effects
-(:data:`friction_model.effects.EFFECT_NAMES`) switched on at a chosen strength, so that a
+(:data:`friction_model.contact.effects.EFFECT_NAMES`) switched on at a chosen strength, so that a
 data set can contain an effect without saying so:
 
 * ``steady``: a steady friction characteristic table over a grid of velocity, pressure,
@@ -13,7 +13,7 @@ data set can contain an effect without saying so:
 
 The transient model (the linearised element of Eq. 5.8, Eq. 5.12, the modulus effect and
 their constants ``TAU_REF_S``, ``MODULUS_ALPHA``, ``MODULUS_F0_HZ``) lives in
-:mod:`friction_model.element_step`; its public names are re-exported here.
+:mod:`friction_model.dynamics.element_step`; its public names are re-exported here.
 
 The files hold the data only; :func:`write_measurements` writes the truth (effects and
 strengths, seed, noise, derived constants) to a separate ``<out>.truth.json`` only when asked
@@ -22,7 +22,7 @@ strengths, seed, noise, derived constants) to a separate ``<out>.truth.json`` on
 Effects and their strengths (0 = off, exactly the base model; 1 = the calibrated physics):
 
 ``humidity_water_layer``, ``salinity_melting_point``, ``ice_preheating``, ``viscous_shear``
-    Strengths of :class:`friction_model.effects.Effects` in the dry/wet model on top of the
+    Strengths of :class:`friction_model.contact.effects.Effects` in the dry/wet model on top of the
     base model ``Effects.none()``. They change mu(v) and therefore every kind of data.
 ``friction_relaxation``
     Eq. 5.12: mu lags mu_ss(v) with time constant ``tau = strength * TAU_REF_S``. It changes
@@ -59,15 +59,10 @@ import numpy as np
 import pandas as pd
 import scipy.signal
 
-from friction_model._validate import check_nonnegative, check_positive
-from friction_model.drywet import DryWetParameters, friction_table
+from friction_model.contact.drywet import DryWetParameters, friction_table
+from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
 from friction_model.dynamics import velocity_step
-from friction_model.dynamics.rigid import (
-    REFERENCE_LOSS_FACTOR,
-    REFERENCE_YOUNGS_MODULUS_PA,
-)
-from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
-from friction_model.element_step import (
+from friction_model.dynamics.element_step import (
     MODULUS_ALPHA,
     MODULUS_F0_HZ,
     TAU_REF_S,
@@ -80,8 +75,13 @@ from friction_model.element_step import (
     modulus_ratio,
     modulus_scaled_frequency_Hz,
 )
+from friction_model.dynamics.rigid import (
+    REFERENCE_LOSS_FACTOR,
+    REFERENCE_YOUNGS_MODULUS_PA,
+)
 from friction_model.geometry import REFERENCE_SAMPLES
 from synthetic.rig import make_raw_run, write_run_csv
+from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = [
     "DEFAULT_NOISE",
@@ -171,7 +171,8 @@ class EffectSpec:
     ----------
     strengths : mapping of str to float, optional
         Effect name -> strength (>= 0; 0 = off, 1 = calibrated physics). Names not given are
-        off. Valid names: :data:`friction_model.effects.EFFECT_NAMES`; ``ice_preheating`` must
+        off. Valid names: :data:`friction_model.contact.effects.EFFECT_NAMES`;
+        ``ice_preheating`` must
         lie in [0, 1].
 
     Raises
@@ -235,7 +236,7 @@ class EffectSpec:
 
     @property
     def dry_wet(self) -> Effects:
-        """The dry/wet strengths as :class:`~friction_model.effects.Effects` (base: all 0)."""
+        """The dry/wet strengths as :class:`~friction_model.Effects` (base: all 0)."""
         return Effects.none().with_(
             **{k: v for k, v in self.strengths.items() if k in DRY_WET_EFFECTS}
         )

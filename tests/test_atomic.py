@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from friction_model._atomic import atomic_write, make_temporary, write_json
+from tir_common.atomic import atomic_write, make_temporary, write_json
 
 posix_only = pytest.mark.skipif(sys.platform == "win32", reason="POSIX permission bits")
 

@@ -18,6 +18,7 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
+from friction_model.contact.laws import ConstantLaw
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
     _TimoshenkoProblem,
@@ -27,7 +28,6 @@ from friction_model.dynamics.timoshenko import (
     fdm_static_deflection,
     static_tip_deflection,
 )
-from friction_model.laws import ConstantLaw
 
 BASE = dict(E_Pa=3.61e6, density_kg_m3=1150.0, kelvin_voigt_s=0.0, contact_stiffness_N_m=1e6)
 P_TIP = 20.0  # N, transverse tip force (mu N of the sliding element)
@@ -179,9 +179,9 @@ def test_printed_form_does_not_conserve_energy():
 
 
 def test_normal_force_load_keeps_force_constant_while_preload_does_not():
+    from friction_model.contact.laws import ArctanExponentialLaw
     from friction_model.dynamics import velocity_ramp
     from friction_model.dynamics.timoshenko import preload_for_normal_force, simulate_timoshenko
-    from friction_model.laws import ArctanExponentialLaw
 
     law = ArctanExponentialLaw(k1=0.17, k2=0.2256, k3=-0.569, k4=50.0)
     p = params(kelvin_voigt_s=1e-3, contact_stiffness_N_m=5e5)
@@ -241,10 +241,10 @@ def test_thesis_literal_option_reproduces_the_audited_steady_state():
     # The printed Eq. 5.25/5.26 with E = 1.05 MPa and a preload distance for 91 N: the
     # independent audit's static solver gave tip 1.629 mm, bending 8.69 deg. Steady state of
     # a BDF run at rtol 1e-5 on 40 nodes: 1e-3 covers the grid (4e-4) and the solver.
-    from friction_model.calibration import table_4_6_targets
+    from friction_model.contact.laws import ArctanExponentialLaw, fit_law
     from friction_model.dynamics import velocity_ramp
     from friction_model.dynamics.timoshenko import preload_for_normal_force, simulate_timoshenko
-    from friction_model.laws import ArctanExponentialLaw, fit_law
+    from friction_model.identification.table_4_6 import table_4_6_targets
 
     rows = table_4_6_targets()
     rows = rows[rows["curve"] == "cold-dry 2.5 bar"]

@@ -12,11 +12,11 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
-from friction_model.coupling import lever_arm_eq_5_21
+from friction_model.contact.laws import DecreasingSqrtLaw
 from friction_model.dynamics import SdofParams, TimoshenkoParams
 from friction_model.geometry import reference_block
-from friction_model.identification import linear_element_response
-from friction_model.laws import DecreasingSqrtLaw
+from friction_model.identification.coupling import lever_arm_eq_5_21
+from friction_model.identification.identify import linear_element_response
 from friction_model.params_file import (
     ParameterFileError,
     friction_law_from,

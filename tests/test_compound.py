@@ -21,10 +21,10 @@ from friction_model.compound import (
     identify_root_stiffness,
     steady_beam_column,
 )
+from friction_model.contact.laws import ArctanExponentialLaw
 from friction_model.dynamics import EulerBernoulliParams, velocity_ramp
 from friction_model.dynamics.rigid import BlockParams, SdofParams
 from friction_model.dynamics.timoshenko import TimoshenkoParams, simulate_timoshenko
-from friction_model.laws import ArctanExponentialLaw
 
 LAW = ArctanExponentialLaw(k1=0.17, k2=0.2256, k3=-0.569, k4=50.0)
 

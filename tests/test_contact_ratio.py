@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from friction_model import element_real_contact_fractions
-from friction_model.drywet import DryWetParameters, real_contact_fraction
+from friction_model.contact.drywet import DryWetParameters, real_contact_fraction
 from friction_model.dynamics.contact import face_real_contact_fraction, reference_contact_ratios
 
 

@@ -1,4 +1,4 @@
-"""Tests of friction_model.coupling: measured contact -> dry/wet inputs, lever arm e(phi)."""
+"""friction_model.identification.coupling: measured contact -> dry/wet inputs, lever arm e(phi)."""
 
 from __future__ import annotations
 
@@ -9,16 +9,16 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
-from friction_model.coupling import (
+from friction_model.contact.drywet import friction_table
+from friction_model.dynamics import TimoshenkoParams, lever_arm
+from friction_model.geometry import reference_block
+from friction_model.identification.coupling import (
     contact_from_pipeline,
     drywet_inputs,
     fit_lever_arm,
     lever_arm_eq_5_21,
     lever_arm_observations,
 )
-from friction_model.drywet import friction_table
-from friction_model.dynamics import TimoshenkoParams, lever_arm
-from friction_model.geometry import reference_block
 
 L_G3 = 4.55e-3  # m, element length of G3
 TRUE_E = {"e1": 12.0, "e2_per_rad": 28.0}

@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from friction_model.contact.effects import EFFECT_NAMES
 from friction_model.discrepancy import (
     Candidate,
     ParameterSpec,
@@ -31,7 +32,6 @@ from friction_model.discrepancy import (
     write_result,
 )
 from friction_model.discrepancy._fit import scan_points
-from friction_model.effects import EFFECT_NAMES
 
 N_GROUPS = 20
 PER_GROUP = 6

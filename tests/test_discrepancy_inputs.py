@@ -17,7 +17,7 @@ from friction_model.discrepancy import (
     read_steady_table,
     read_transient_table,
 )
-from friction_model.identification import read_characteristic
+from friction_model.identification.identify import read_characteristic
 from tir_contact.cli import main
 
 STEADY_COLUMNS = ["velocity_mps", "pressure_bar", "temperature_C", "humidity_pct",

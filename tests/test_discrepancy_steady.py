@@ -18,10 +18,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from friction_model.contact.drywet import DryWetParameters, friction_table
+from friction_model.contact.effects import DRY_WET_EFFECTS, Effects
 from friction_model.discrepancy import SteadyProblem, run_discrepancy, write_result
 from friction_model.discrepancy._steady_curves import steady_mu
-from friction_model.drywet import DryWetParameters, friction_table
-from friction_model.effects import DRY_WET_EFFECTS, Effects
 from friction_model.geometry import BlockGeometry
 from synthetic.effect_size import effect_size, strength_for_effect_size
 from synthetic.measurements import SteadyGrid, make_steady_table

@@ -1,4 +1,4 @@
-"""Element step model (friction_model.element_step) and the transient discrepancy problems."""
+"""Element step model (dynamics.element_step) and the transient discrepancy problems."""
 
 from __future__ import annotations
 
@@ -11,7 +11,6 @@ import scipy.optimize
 from numpy.testing import assert_allclose, assert_array_equal
 
 import synthetic.measurements as measurements
-from friction_model import element_step
 from friction_model.discrepancy._problem import Candidate, Problem
 from friction_model.discrepancy._scoring import aicc, bic
 from friction_model.discrepancy.stickslip import (
@@ -32,7 +31,8 @@ from friction_model.discrepancy.transient import (
     run_from_table,
     runs_from_elements,
 )
-from friction_model.element_step import (
+from friction_model.dynamics import element_step
+from friction_model.dynamics.element_step import (
     TAU_REF_S,
     modulus_scaled_frequency_Hz,
     step_element,
@@ -41,7 +41,7 @@ from friction_model.element_step import (
 from synthetic.measurements import make_transient_table, write_table
 
 
-# -- the move: synthetic.measurements builds on friction_model.element_step ------------------
+# -- the move: synthetic.measurements builds on friction_model.dynamics.element_step --
 @pytest.mark.parametrize(
     "name",
     [

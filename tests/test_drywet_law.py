@@ -5,8 +5,8 @@ import pytest
 from numpy.testing import assert_allclose
 
 from friction_model import Conditions, reference_block
-from friction_model.drywet import element_friction_table, friction_table
-from friction_model.drywet_law import DryWetLaw
+from friction_model.contact.drywet import element_friction_table, friction_table
+from friction_model.contact.drywet_law import DryWetLaw
 
 G3 = reference_block("G3")
 

@@ -5,7 +5,7 @@ import pytest
 from scipy.linalg import solve_banded
 
 from friction_model import ICE, Conditions, DryWetParameters, reference_block
-from friction_model.drywet import _as_table, _run
+from friction_model.contact.drywet import _as_table, _run
 
 G3 = reference_block("G3")
 

@@ -1,6 +1,6 @@
 """Transient effect size: the RMS change of a velocity-step record the base's levels cannot
 absorb (synthetic.effect_size.transient_effect_size), against an independent computation
-with the element's step response (friction_model.element_step.step_response) and a
+with the element's step response (friction_model.dynamics.element_step.step_response) and a
 least-squares fit of the two levels (numpy.linalg.lstsq)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from friction_model.element_step import step_response
+from friction_model.dynamics.element_step import step_response
 from synthetic.effect_size import (
     TRANSIENT_STRENGTH_MAX,
     strength_for_transient_effect_size,
@@ -50,7 +50,7 @@ def _independent_size(effect: str, strength: float, absorb: str) -> float:
 def test_transient_size_matches_independent_step_response(effect, strength, absorb):
     got = transient_effect_size(effect, strength, absorb=absorb, **RECORD)
     # step_response and the generator's integrator agree within 1e-10 deg (documented in
-    # friction_model.element_step._step_response), so the sizes agree to far below 1e-6
+    # friction_model.dynamics.element_step._step_response), so the sizes agree to far below 1e-6
     assert got == pytest.approx(_independent_size(effect, strength, absorb), rel=1e-6)
 
 

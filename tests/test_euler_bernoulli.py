@@ -8,6 +8,7 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.integrate import trapezoid
 
+from friction_model.contact.laws import ConstantLaw, ExponentialLaw, RelaxedFriction
 from friction_model.dynamics.euler_bernoulli import (
     EulerBernoulliParams,
     clamped_free_beta_d,
@@ -15,7 +16,6 @@ from friction_model.dynamics.euler_bernoulli import (
     eb_natural_frequencies,
     simulate_euler_bernoulli,
 )
-from friction_model.laws import ConstantLaw, ExponentialLaw, RelaxedFriction
 
 # Tabulated roots of 1 + cos(x) cosh(x) = 0 (the clamped-free beam, e.g. Blevins, Formulas
 # for natural frequency and mode shape, Table 8-1), 10 digits.

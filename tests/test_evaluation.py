@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
-from friction_model.evaluation import (
+from friction_model.rig.evaluation import (
     AMBIENT_COLUMNS,
     INSTATIONARY_COLUMNS,
     STEADY_COLUMNS,

@@ -196,8 +196,8 @@ def test_rotated_path_area_and_blur_conserve_the_contact():
 
 
 def test_simulated_dynamics_follow_the_rigid_model():
+    from friction_model.contact.laws import ExponentialLaw
     from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
-    from friction_model.laws import ExponentialLaw
 
     spec = FootageSpec(preset="G7", n_frames=12, settle_s=0.005, center_time_s=0.0015)
     truth = pd.concat([t for _, _, t in iter_frames(spec)])

@@ -7,9 +7,9 @@ import pandas as pd
 import pytest
 
 from friction_model.compound import REFERENCE_COMPOUND
+from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
 from friction_model.dynamics import velocity_step
 from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
-from friction_model.laws import ExponentialLaw, RelaxedFriction
 from synthetic import footage
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames
 

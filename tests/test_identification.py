@@ -1,4 +1,4 @@
-"""Tests of friction_model.identification (section 5.4): E, damping and mu(v) with intervals."""
+"""friction_model.identification.identify (section 5.4): E, damping and mu(v) with intervals."""
 
 from __future__ import annotations
 
@@ -9,15 +9,15 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
+from friction_model.contact.laws import ConstantLaw, DecreasingSqrtLaw
 from friction_model.dynamics import SdofParams, simulate_sdof, velocity_step
-from friction_model.identification import (
+from friction_model.identification.identify import (
     DeflectionSeries,
     SteadyCharacteristic,
     identify_parameters,
     linear_element_response,
     read_characteristic,
 )
-from friction_model.laws import ConstantLaw, DecreasingSqrtLaw
 
 E_TRUE = 3.0e6  # Pa (the REF compound has 3.61 MPa; the fit starts there)
 ETA_TRUE = 0.25

@@ -16,7 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_array_equal
 
-from tir_contact._readers import natural_key, to_grey, unpack_12bit
+from tir_common.naming import natural_key
+from tir_contact._readers import to_grey, unpack_12bit
 from tir_contact.io import (
     ArrayReader,
     FootageError,

@@ -1,4 +1,4 @@
-"""Tests for friction_model.laws: formulas, fits with standard errors, relaxation (Eq. 5.12).
+"""friction_model.contact.laws: formulas, fits with standard errors, relaxation (Eq. 5.12).
 
 Every check compares against an independent truth: hand-computed values of the thesis
 equations, scipy.optimize.curve_fit, closed-form least squares, the sampling distribution over
@@ -19,7 +19,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 from scipy.integrate import solve_ivp
 from scipy.optimize import curve_fit
 
-from friction_model.laws import (
+from friction_model.contact.laws import (
     ArctanExponentialLaw,
     ConstantLaw,
     DecreasingSqrtLaw,

@@ -13,10 +13,10 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from friction_model.drywet import DryWetParameters, friction_table
-from friction_model.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
-from friction_model.evaluation import evaluate_steady_run, read_run
+from friction_model.contact.drywet import DryWetParameters, friction_table
+from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
 from friction_model.geometry import BlockGeometry
+from friction_model.rig.evaluation import evaluate_steady_run, read_run
 from synthetic.measurements import (
     MODULUS_ALPHA,
     STEADY_COLUMNS,

@@ -13,6 +13,14 @@ from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from friction_model.contact.laws import (
+    ArctanExponentialLaw,
+    ConstantLaw,
+    DecreasingSqrtLaw,
+    ExponentialLaw,
+    RelaxedFriction,
+    fit_law,
+)
 from friction_model.dynamics import _rigid_eom as eom
 from friction_model.dynamics._common import SimulationError, velocity_step
 from friction_model.dynamics.rigid import (
@@ -22,14 +30,6 @@ from friction_model.dynamics.rigid import (
     gent_youngs_modulus,
     simulate_block_dynamics,
     simulate_sdof,
-)
-from friction_model.laws import (
-    ArctanExponentialLaw,
-    ConstantLaw,
-    DecreasingSqrtLaw,
-    ExponentialLaw,
-    RelaxedFriction,
-    fit_law,
 )
 
 L_G3 = 4.55e-3  # element length of the reference sample G3, m

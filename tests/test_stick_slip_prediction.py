@@ -14,6 +14,7 @@ import scipy.optimize
 from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.discrepancy import predicted_stick_slip_problem, stick_slip_case
 from friction_model.discrepancy.stickslip import PLAUSIBLE_EXTRA_MODULUS_STRENGTH
+from friction_model.dynamics.element_step import modulus_scaled_frequency_Hz
 from friction_model.dynamics.stick_slip import (
     K4_INTERVAL_S_PER_M,
     PREDICTED_EXTRA_MODULUS_HZ,
@@ -26,7 +27,6 @@ from friction_model.dynamics.timoshenko import (
     buckling_load,
     natural_frequencies_timoshenko,
 )
-from friction_model.element_step import modulus_scaled_frequency_Hz
 
 
 def _p(**kw):
@@ -80,7 +80,7 @@ def test_plausible_cap_is_a_compound_with_loss_factor_0_3():
     # at 1.5 kHz, tan(delta) 0.3 instead of 0.2 multiplies E(f) by 1500^(n(0.3) - n(0.2));
     # the candidate's 1 + s alpha log10(1500) matches it at s = 0.598 (round-off)
     from friction_model.compound import Compound
-    from friction_model.element_step import MODULUS_ALPHA
+    from friction_model.dynamics.element_step import MODULUS_ALPHA
 
     ratio = 1500.0 ** (
         Compound(loss_factor=0.3).modulus_exponent - Compound(loss_factor=0.2).modulus_exponent

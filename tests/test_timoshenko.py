@@ -15,6 +15,12 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
+from friction_model.contact.laws import (
+    ArctanExponentialLaw,
+    ConstantLaw,
+    RelaxedFriction,
+    VenkateshLaw,
+)
 from friction_model.dynamics import SimulationError, velocity_ramp, velocity_step
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
@@ -28,7 +34,6 @@ from friction_model.dynamics.timoshenko import (
     simulate_timoshenko,
     static_tip_deflection,
 )
-from friction_model.laws import ArctanExponentialLaw, ConstantLaw, RelaxedFriction, VenkateshLaw
 
 E = 2e6  # Pa, soft tread rubber
 BASE = dict(E_Pa=E, density_kg_m3=1150.0, kelvin_voigt_s=1e-3, contact_stiffness_N_m=1.2e5)

@@ -9,7 +9,7 @@ import shutil
 import uuid
 from pathlib import Path
 
-from friction_model._atomic import atomic_write, write_json
+from tir_common.atomic import atomic_write, write_json
 from tir_contact._workers import parent_alive
 
 logger = logging.getLogger(__name__)

@@ -10,10 +10,8 @@ from __future__ import annotations
 
 import logging
 import os
-import re
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -26,7 +24,6 @@ __all__ = [
     "FootageError",
     "check_pixels",
     "decode_image_file",
-    "natural_key",
     "one_line",
     "ranges_text",
     "size_text",
@@ -59,7 +56,6 @@ COMPANION_NAMES: tuple[str, ...] = ("thumbs.db", "desktop.ini")
 #: ITU-R BT.601 luma weights for red, green and blue, in thousandths (exact integer maths).
 _LUMA_RGB_PERMILLE = np.array([299, 587, 114], dtype=np.int64)
 
-_NATURAL_SPLIT = re.compile(r"(\d+)")
 
 
 class FootageError(ValueError):
@@ -79,29 +75,6 @@ class FootageError(ValueError):
     def __init__(self, message: str, path: str | os.PathLike[str] | None = None) -> None:
         super().__init__(message)
         self.path = None if path is None else Path(path)
-
-
-def natural_key(name: str) -> tuple[Any, ...]:
-    """Sort key that orders embedded numbers by value (``f2`` before ``f10``).
-
-    Parameters
-    ----------
-    name : str
-        A file name.
-
-    Returns
-    -------
-    tuple
-        Alternating text parts (case-folded) and integers; ties are broken by the name itself.
-    """
-    parts = _NATURAL_SPLIT.split(name)
-    key: list[Any] = []
-    for i, part in enumerate(parts):
-        if i % 2:
-            key.append((1, int(part), ""))
-        else:
-            key.append((0, 0, part.casefold()))
-    return (tuple(key), name)
 
 
 def size_text(shape: tuple[int, ...]) -> str:

@@ -34,6 +34,7 @@ from typing import Any, ClassVar, Self
 
 import numpy as np
 
+from tir_common.naming import natural_key
 from tir_contact._cih import CihFormatError, read_cih
 from tir_contact._cine import CineFormatError, ImageRecord, read_cine_header, scan_images
 from tir_contact._readers import (
@@ -43,7 +44,6 @@ from tir_contact._readers import (
     FootageError,
     check_pixels,
     decode_image_file,
-    natural_key,
     one_line,
     ranges_text,
     size_text,

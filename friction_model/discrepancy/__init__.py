@@ -34,8 +34,8 @@ A steady table made by the base model itself, with 2 % scatter: nothing is missi
 
 >>> import itertools
 >>> import numpy as np, pandas as pd
->>> from friction_model.drywet import DryWetParameters, friction_table
->>> from friction_model.effects import Effects
+>>> from friction_model.contact.drywet import DryWetParameters, friction_table
+>>> from friction_model.contact.effects import Effects
 >>> from friction_model.geometry import BlockGeometry
 >>> rows = pd.DataFrame(list(itertools.product([1.0, 2.0, 3.0, 5.0], [2.5], [-8.0, -4.0, -2.0],
 ...     [40.0, 90.0], [0.0])), columns=["velocity_mps", "pressure_bar", "temperature_C",

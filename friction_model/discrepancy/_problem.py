@@ -4,7 +4,7 @@ A *problem* is measured data plus a base model that can be extended by named can
 effects (:class:`Problem`). A *candidate* is a model extension with one or two bounded,
 physically signed parameters that reduces exactly to the base model at its null value
 (:class:`Candidate`, :class:`ParameterSpec`). The six effects of
-:data:`friction_model.effects.EFFECT_NAMES` form the library; users add their own with
+:data:`friction_model.contact.effects.EFFECT_NAMES` form the library; users add their own with
 :func:`register_candidate`.
 """
 
@@ -18,7 +18,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import pandas as pd
 
-from friction_model.effects import EFFECT_NAMES
+from friction_model.contact.effects import EFFECT_NAMES
 
 __all__ = [
     "Apply",

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from friction_model._atomic import atomic_write, json_safe
 from friction_model.discrepancy._workflow import DiscrepancyResult
+from tir_common.atomic import atomic_write, json_safe
 
 __all__ = ["PLOT_FILES", "write_result"]
 

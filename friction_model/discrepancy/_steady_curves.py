@@ -1,14 +1,14 @@
 """Steady mu of the dry/wet model for many strengths of one effect in one vectorised march.
 
-:func:`friction_model.drywet.friction_table` takes one set of effect strengths per call and
+:func:`friction_model.contact.drywet.friction_table` takes one set of effect strengths per call and
 costs about 0.1 s per call, most of it the march's loop over the cells of the block, nearly
 independent of the number of conditions. The discrepancy workflow needs mu on a grid of 20-40
 strengths of each candidate effect, so this module stacks the conditions once per strength
 and marches them all together, with the strength given per row. The result equals
 ``friction_table`` exactly (``tests/test_discrepancy_steady.py`` checks every effect to 1e-12).
 
-It uses the internals of :mod:`friction_model.drywet` (``_prepare``, ``_element_tables``)
-and :func:`friction_model._march.march`, whose inputs broadcast over rows: the viscous
+It uses the internals of :mod:`friction_model.contact.drywet` (``_prepare``, ``_element_tables``)
+and :func:`friction_model.contact._march.march`, whose inputs broadcast over rows: the viscous
 strength multiplies row arrays, the preheating factor multiplies the (rows, cells) heat
 history, and the humidity and salinity effects act through the per-row bound layer ``h0``
 and the melting point.
@@ -21,11 +21,11 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from friction_model._march import march
-from friction_model.drywet import DryWetParameters, _as_table, _element_tables, _prepare
-from friction_model.effects import DRY_WET_EFFECTS
+from friction_model.contact._march import march
+from friction_model.contact.drywet import DryWetParameters, _as_table, _element_tables, _prepare
+from friction_model.contact.effects import DRY_WET_EFFECTS
+from friction_model.contact.water_layer import freezing_point_depression_K, initial_water_layer_m
 from friction_model.geometry import BlockGeometry
-from friction_model.water_layer import freezing_point_depression_K, initial_water_layer_m
 
 __all__: list[str] = []
 

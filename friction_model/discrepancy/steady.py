@@ -2,7 +2,7 @@
 
 :class:`SteadyProblem` couples a steady table (``docs/formats.md``, "Steady table": one row
 per condition with ``mu`` and ``mu_std``) with the dry/wet model of section 4.5.1
-(:func:`friction_model.drywet.friction_table`) so that
+(:func:`friction_model.contact.drywet.friction_table`) so that
 :func:`~friction_model.discrepancy.run_discrepancy` can name the effect it lacks.
 """
 
@@ -20,11 +20,11 @@ import pandas as pd
 from scipy.interpolate import CubicSpline
 
 from friction_model._table_io import TableSource, read_table
+from friction_model.contact.drywet import DryWetParameters
+from friction_model.contact.effects import DRY_WET_EFFECTS, Effects
+from friction_model.contact.water_layer import freezing_point_depression_K
 from friction_model.discrepancy._problem import get_candidate
 from friction_model.discrepancy._steady_curves import CONDITION_COLUMNS, steady_mu
-from friction_model.drywet import DryWetParameters
-from friction_model.effects import DRY_WET_EFFECTS, Effects
-from friction_model.water_layer import freezing_point_depression_K
 
 __all__ = ["GROUP_COLUMNS", "MIN_RELATIVE_SIGMA", "SteadyProblem", "read_steady_table"]
 
@@ -183,7 +183,7 @@ class SteadyProblem:
     shear and the water layer, h_c with the humidity layer), so fitting them would make
     the candidates unidentifiable.
 
-    Candidates: the four dry/wet effects of :data:`friction_model.effects.DRY_WET_EFFECTS`,
+    Candidates: the four dry/wet effects of :data:`friction_model.contact.effects.DRY_WET_EFFECTS`,
     each with one parameter, its strength (null 0). ``friction_relaxation`` and
     ``frequency_dependent_modulus`` leave steady states exactly unchanged, so a steady
     table cannot reveal them; they are not in :attr:`effect_names`.

@@ -4,7 +4,7 @@ The thesis films a stick-slip vibration of the tread-block elements at 1500 Hz a
 one at 1111 Hz with the Timoshenko model and a constant rubber modulus, naming the frequency
 dependence of the modulus as missing. :class:`StickSlipProblem` states this as a discrepancy
 problem over frequency observations: the model frequency is the simulated one with E = E(f)
-instead of E0 (:func:`friction_model.element_step.modulus_scaled_frequency_Hz`, the fixed
+instead of E0 (:func:`friction_model.dynamics.element_step.modulus_scaled_frequency_Hz`, the fixed
 point ``f = f_c sqrt(E(f) / E0)``: the beam's bending and shear stiffness are both
 proportional to E). :func:`stick_slip_case` scores the two transient candidates on it.
 
@@ -38,7 +38,7 @@ import scipy.optimize
 
 from friction_model.discrepancy._problem import get_candidate
 from friction_model.discrepancy.transient import MODULUS, RELAXATION
-from friction_model.element_step import modulus_scaled_frequency_Hz
+from friction_model.dynamics.element_step import modulus_scaled_frequency_Hz
 
 __all__ = [
     "PLAUSIBLE_EXTRA_MODULUS_STRENGTH",
@@ -67,7 +67,7 @@ def _extra_strength_of_loss_factor(loss_factor: float, frequency_Hz: float = 150
     extra factor (f / f0)^(n - n_ref) is matched by 1 + s alpha log10(f / f0).
     """
     from friction_model.compound import REFERENCE_COMPOUND, Compound
-    from friction_model.element_step import MODULUS_ALPHA, MODULUS_F0_HZ
+    from friction_model.dynamics.element_step import MODULUS_ALPHA, MODULUS_F0_HZ
 
     ref = REFERENCE_COMPOUND
     n_extra = Compound(loss_factor=loss_factor).modulus_exponent - ref.modulus_exponent

@@ -4,7 +4,8 @@ The thesis matched its velocity-step simulation to the rig (Fig. 5.7) only after
 time dependence of friction, Eq. 5.12. :class:`TransientProblem` puts that comparison into
 the form the discrepancy workflow fits (the ``Problem`` protocol of
 ``friction_model.discrepancy._problem``): measured deflection angles of one or more runs
-against the linearised element of Eq. 5.8 (:func:`friction_model.element_step.step_response`)
+against the linearised element of Eq. 5.8
+(:func:`friction_model.dynamics.element_step.step_response`)
 without relaxation and with the constant modulus E0, and two candidate extensions:
 
 ``friction_relaxation``
@@ -45,7 +46,7 @@ import pandas as pd
 
 from friction_model._table_io import TableSource, read_table
 from friction_model.discrepancy._problem import Candidate, get_candidate
-from friction_model.element_step import step_element, step_response
+from friction_model.dynamics.element_step import step_element, step_response
 
 __all__ = [
     "DEFAULT_BLOCK_EDGES_S",
@@ -515,7 +516,7 @@ class TransientProblem:
     Examples
     --------
     >>> import numpy as np
-    >>> from friction_model.element_step import step_response
+    >>> from friction_model.dynamics.element_step import step_response
     >>> t = np.arange(0.0, 0.1, 1e-4)
     >>> angle = step_response(t, 0.05, mu_before=0.6, mu_after=0.4, tau_s=0.02)
     >>> p = TransientProblem([TransientRun("r", t, angle, 1.0, 5.0, 0.05, sigma_deg=0.5)])

@@ -8,8 +8,8 @@ Conventions for every model in :mod:`friction_model.dynamics`:
   (:func:`constant_velocity`, :func:`velocity_step`, :func:`velocity_ramp`) and the preload
   distance ``y0(t)`` in m (:func:`constant_preload`, :func:`surface_profile`).
 * Friction: any object with ``mu(v_rel_mps, *, pressure_Pa=None, temperature_C=None)``
-  (:mod:`friction_model.laws`, :class:`friction_model.DryWetLaw`); a
-  :class:`friction_model.laws.RelaxedFriction` adds the state mu_R of Eq. 5.12.
+  (:mod:`friction_model.contact.laws`, :class:`friction_model.DryWetLaw`); a
+  :class:`friction_model.contact.laws.RelaxedFriction` adds the state mu_R of Eq. 5.12.
 * Every model returns a :class:`SimulationResult`.
 """
 

@@ -5,7 +5,7 @@ springs spread over each element's bottom face) tilts each element under frictio
 face touches the ice only over part of its length (lift-off at the back, line-wise contact
 for thin, strongly inclined elements). Inside the touching part of a face only the real
 contact of the dry/wet model is in contact with the ice: the fraction
-:func:`friction_model.drywet.real_contact_fraction` of the local pressure (the same function
+:func:`friction_model.contact.drywet.real_contact_fraction` of the local pressure (the same function
 the synthetic renderer uses for its patchy contact), integrated over the linear (Winkler)
 pressure profile of the face. The contact ratio of a sample is that real contact area over
 its nominal area L w (the sipes count as no contact), as in Fig. 4.21.
@@ -20,10 +20,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from friction_model.drywet import DryWetParameters, real_contact_fraction
+from friction_model.contact.drywet import DryWetParameters, real_contact_fraction
+from friction_model.contact.laws import ExponentialLaw
 from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
 from friction_model.geometry import reference_block
-from friction_model.laws import ExponentialLaw
 
 __all__ = [
     "THESIS_CONTACT_RATIO",
@@ -48,7 +48,7 @@ def face_real_contact_fraction(
     linear Winkler pressure of the block model: uniform, F / A, in full contact (c = 1),
     triangular from the leading edge, p(s) = 2 p_mean s, when it has lifted off at the back
     (c < 1, p_mean = F / (c A)). The real contact at each point is
-    :func:`friction_model.drywet.real_contact_fraction` of the local pressure (Eq. 4.1-4.7
+    :func:`friction_model.contact.drywet.real_contact_fraction` of the local pressure (Eq. 4.1-4.7
     model, ``contact_fraction_ref`` (p / p_ref)^gamma); integrated by the midpoint rule.
 
     Parameters
@@ -134,7 +134,7 @@ def element_real_contact_fractions(
     default Eq. 5.7 friction) slides at ``velocity_mps`` under ``pressure_bar``; each
     element's steady face contact and normal force give its real contact fraction by
     :func:`face_real_contact_fraction` (the dry/wet model's
-    :func:`~friction_model.drywet.real_contact_fraction` with the default parameters).
+    :func:`~friction_model.contact.drywet.real_contact_fraction` with the default parameters).
     Cached: repeated calls with the same arguments cost nothing.
 
     Parameters

@@ -74,6 +74,7 @@ from scipy.integrate import solve_ivp
 from scipy.sparse import lil_matrix
 
 from friction_model.compound import REFERENCE_COMPOUND, gent_youngs_modulus
+from friction_model.contact.laws import RelaxedFriction
 from friction_model.dynamics import _rigid_eom as eom
 from friction_model.dynamics._common import (
     Profile,
@@ -87,7 +88,6 @@ from friction_model.dynamics._common import (
     surface_profile,
 )
 from friction_model.geometry import reference_block
-from friction_model.laws import RelaxedFriction
 
 logger = logging.getLogger(__name__)
 
@@ -943,7 +943,7 @@ def simulate_sdof(
         (:func:`~._common.surface_profile`).
     friction : friction law or RelaxedFriction
         Anything with ``mu(v_rel_mps, *, pressure_Pa=None, temperature_C=None)``; a
-        :class:`~friction_model.laws.RelaxedFriction` adds the state mu_R of Eq. 5.12. The
+        :class:`~friction_model.contact.laws.RelaxedFriction` adds the state mu_R of Eq. 5.12. The
         law gets the nominal pressure F_N / (l w).
     t_end_s : float
         Simulated time, s.

@@ -62,8 +62,8 @@ _V0_MPS = 1.0
 
 @lru_cache(maxsize=8)
 def _eq_5_24(k4: float) -> Any:
-    from friction_model.calibration import table_4_6_targets
-    from friction_model.laws import ArctanExponentialLaw, fit_law
+    from friction_model.contact.laws import ArctanExponentialLaw, fit_law
+    from friction_model.identification.table_4_6 import table_4_6_targets
 
     rows = table_4_6_targets()
     rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
@@ -132,7 +132,8 @@ def predict_stick_slip(
     extra_modulus_strength : float
         Strength s of an additional frequency stiffening on top of the compound's own,
         E(f) = E_compound(f) (1 + s alpha log10(f / f0)) (the discrepancy candidate
-        ``frequency_dependent_modulus``, :func:`friction_model.element_step.modulus_ratio`).
+        ``frequency_dependent_modulus``,
+        :func:`friction_model.dynamics.element_step.modulus_ratio`).
     t_end_s, window_s : float
         Simulated time and the final window analysed, s.
 
@@ -144,8 +145,8 @@ def predict_stick_slip(
         loaded first mode), ``E_Pa``, ``kelvin_voigt_s``, ``normal_force_N``.
     """
     from friction_model.dynamics._common import velocity_ramp
+    from friction_model.dynamics.element_step import modulus_ratio
     from friction_model.dynamics.timoshenko import simulate_timoshenko
-    from friction_model.element_step import modulus_ratio
 
     base = _element(compound)
     N = _PRESSURE_PA * base.area_m2

@@ -29,10 +29,10 @@ def table_4_6_eq_5_24():
 
     Returns
     -------
-    friction_model.laws.ArctanExponentialLaw
+    friction_model.contact.laws.ArctanExponentialLaw
     """
-    from friction_model.calibration import table_4_6_targets
-    from friction_model.laws import ArctanExponentialLaw, fit_law
+    from friction_model.contact.laws import ArctanExponentialLaw, fit_law
+    from friction_model.identification.table_4_6 import table_4_6_targets
 
     rows = table_4_6_targets()
     rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
@@ -110,7 +110,7 @@ def dry_wet_point(
         ``mu``, ``regime``, ``run_in_length_first_mm``, ``run_in_length_last_mm``.
     """
     from friction_model.conditions import Conditions
-    from friction_model.drywet import friction_table
+    from friction_model.contact.drywet import friction_table
     from friction_model.geometry import reference_block
 
     cond = Conditions.from_bar(

@@ -34,7 +34,7 @@ Equations (Eq. 5.25-5.29 in this convention, default Haringx beam-column)::
 with the tip rise delta = u^T G u / 2 (Haringx: (1/2) int (r'^2 - (r' - phi)^2) dx; the beam
 analogue of d cos(phi) in Eq. 5.3; switch off with ``foreshortening=False``), the lever arm
 e(phi(d)) of Eq. 5.21/5.22 and the friction law of Eq. 5.24 (or any law of
-:mod:`friction_model.laws`, optionally relaxed by Eq. 5.12). Initial state Eq. 5.30: rest.
+:mod:`friction_model.contact.laws`, optionally relaxed by Eq. 5.12). Initial state Eq. 5.30: rest.
 N is the vertical ice reaction, fixed in direction (a dead load); with the axial terms
 derived from its potential the undamped, frictionless element conserves energy.
 
@@ -46,7 +46,7 @@ Thesis slips handled here
 * Eq. 5.23 writes v_rel = v0 - dphi/dt(d, t), mixing a velocity with an angular velocity;
   the relative sliding velocity is v0 minus the tip velocity dr/dt(d, t), as in Eq. 5.5.
 * Eq. 5.12 (relaxation) is used in its physical form tau dmu/dt + mu = mu_ss
-  (see :class:`friction_model.laws.RelaxedFriction`).
+  (see :class:`friction_model.contact.laws.RelaxedFriction`).
 
 Modelling notes
 ---------------
@@ -100,6 +100,7 @@ from scipy.integrate import BDF, Radau
 from scipy.optimize import brentq
 
 from friction_model.compound import REFERENCE_COMPOUND
+from friction_model.contact.laws import RelaxedFriction
 from friction_model.dynamics._common import (
     Profile,
     SimulationError,
@@ -114,7 +115,6 @@ from friction_model.dynamics._timoshenko_fdm import (
     assemble,
     tip_slope,
 )
-from friction_model.laws import RelaxedFriction
 
 logger = logging.getLogger(__name__)
 
@@ -1302,7 +1302,8 @@ def simulate_timoshenko(
         ``normal_force`` and ``preload``.
     friction : friction law or RelaxedFriction
         mu(v_rel, pressure_Pa=N/(l w), temperature_C=...) (Eq. 5.24 or any law of
-        :mod:`friction_model.laws`); a :class:`~friction_model.laws.RelaxedFriction` with
+        :mod:`friction_model.contact.laws`); a
+        :class:`~friction_model.contact.laws.RelaxedFriction` with
         tau > 0 adds mu_R as a state (Eq. 5.12).
     t_end_s : float
         Simulated time, s, in (0, 100].

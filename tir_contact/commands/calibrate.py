@@ -10,16 +10,17 @@ Usage::
 
 ``--footage`` takes output folders of the contact pipeline (``frames.csv`` and
 ``elements.csv``; a path to either file means its folder). TIR results give the real contact
-fraction, area and local pressure (:func:`friction_model.coupling.contact_from_pipeline`) and,
-with deflection angles, the lever arm e(phi) of Eq. 5.21 (:func:`~friction_model.coupling.
-fit_lever_arm`); side-view results give the deflection time series of element 0. A
+fraction, area and local pressure (:func:`friction_model.contact_from_pipeline`) and,
+with deflection angles, the lever arm e(phi) of Eq. 5.21
+(:func:`~friction_model.fit_lever_arm`); side-view results give the
+deflection time series of element 0. A
 ``meta.json`` in the folder (or its parent), else the metadata ``tir-contact analyze`` recorded
 in ``summary.json``, supplies the block, pressure, velocity and sliding
 direction; the options override it. ``--characteristic`` is a steady table or the
 evaluation's ``steady_characteristic.csv`` (mu(v), fitted with ``--law``; ``auto`` picks the
 law with the lowest AICc). ``--transient`` takes transient tables (``time_s, velocity_mps,
 angle_deg``). The element (E, loss factor) is identified together with the law
-(:func:`friction_model.identification.identify_parameters`) when a deflection series holds a
+(:func:`friction_model.identify_parameters`) when a deflection series holds a
 velocity change. Writes the parameter file (docs/formats.md "Parameter file") and prints one
 summary line. Exit codes: 0 success, 1 when the data cannot be used (message on stderr),
 2 for bad arguments.
@@ -247,7 +248,7 @@ def _pick_law(name: str, steady: Any) -> Any:
 
     import numpy as np
 
-    from friction_model import laws
+    from friction_model.contact import laws
 
     names = ("ConstantLaw", "DecreasingSqrtLaw", "IncreasingSqrtLaw", "ExponentialLaw")
     if steady is None:
@@ -312,14 +313,14 @@ def _run(args: argparse.Namespace) -> int:
     import pandas as pd
     from scipy import stats
 
-    from friction_model.coupling import (
+    from friction_model.dynamics.rigid import SdofParams
+    from friction_model.identification.coupling import (
         contact_from_pipeline,
         fit_lever_arm,
         lever_arm_observations,
         read_pipeline_tables,
     )
-    from friction_model.dynamics.rigid import SdofParams
-    from friction_model.identification import (
+    from friction_model.identification.identify import (
         DeflectionSeries,
         identify_parameters,
         read_characteristic,

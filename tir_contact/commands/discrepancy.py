@@ -84,7 +84,7 @@ def _drywet_params(path: Path | None) -> Any:
     """Dry/wet parameters with the measured real contact fraction of a parameter file."""
     if path is None:
         return None
-    from friction_model.drywet import DryWetParameters
+    from friction_model.contact.drywet import DryWetParameters
     from friction_model.params_file import read_parameters
 
     doc = read_parameters(path)

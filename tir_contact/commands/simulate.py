@@ -13,7 +13,7 @@ Writes to DIR (created if needed):
   the loaded element (Eq. 5.8 linearised).
 * ``step_response.csv`` / ``step_response.png`` (with an ``element`` section): the deflection
   angle through a velocity step V1 -> V2 (default: the smallest and largest velocity) from
-  :func:`friction_model.identification.linear_element_response`.
+  :func:`friction_model.identification.identify.linear_element_response`.
 * ``lever_arm.csv`` / ``lever_arm.png`` (with a ``lever_arm`` section): e(phi) of Eq. 5.21.
 
 Prints one summary line. Exit codes: 0 success, 1 when the parameter file cannot be used
@@ -88,7 +88,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def _write_csv(table: Any, path: Path) -> None:
-    from friction_model._atomic import atomic_write
+    from tir_common.atomic import atomic_write
 
     atomic_write(path, lambda tmp: table.to_csv(tmp, index=False, float_format="%.10g"))
 
@@ -96,7 +96,7 @@ def _write_csv(table: Any, path: Path) -> None:
 def _save(fig: Any, path: Path) -> None:
     import matplotlib.pyplot as plt
 
-    from friction_model._atomic import atomic_write
+    from tir_common.atomic import atomic_write
 
     try:
         atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120))
@@ -135,8 +135,8 @@ def _run(args: argparse.Namespace) -> int:
     import numpy as np
     import pandas as pd
 
-    from friction_model.coupling import lever_arm_eq_5_21
-    from friction_model.identification import linear_element_response
+    from friction_model.identification.coupling import lever_arm_eq_5_21
+    from friction_model.identification.identify import linear_element_response
     from friction_model.params_file import (
         friction_law_from,
         lever_arm_kwargs_from,

@@ -91,7 +91,7 @@ def _int_list(text: str) -> tuple[int, ...]:
 
 
 def _effect(text: str) -> tuple[str, float | None]:
-    from friction_model.effects import EFFECT_NAMES
+    from friction_model.contact.effects import EFFECT_NAMES
 
     name, sep, value = text.partition("=")
     name = name.strip()

@@ -43,13 +43,13 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from friction_model._validate import check_nonnegative, check_positive
 from friction_model.dynamics.rigid import (
     REFERENCE_LOSS_FACTOR,
     REFERENCE_YOUNGS_MODULUS_PA,
     SdofParams,
 )
 from friction_model.geometry import BlockGeometry
+from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = [
     "MODULUS_ALPHA",

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
 
-from friction_model.drywet import DryWetParameters, element_friction_table, friction_table
+from friction_model.contact.drywet import DryWetParameters, element_friction_table, friction_table
 from friction_model.geometry import BlockGeometry
 
 __all__ = ["DryWetLaw"]
@@ -43,7 +43,7 @@ class DryWetLaw:
 
     Notes
     -----
-    Same call signature as :class:`friction_model.laws.FrictionLaw`:
+    Same call signature as :class:`friction_model.contact.laws.FrictionLaw`:
     ``mu(v_rel_mps, *, pressure_Pa=None, temperature_C=None)``. The result is the magnitude
     of mu (even in v); ``pressure_Pa=None`` means the reference pressure 2.5 bar.
     Interpolation is linear in log(v) and log(p) on a 96 x 24 grid; the error against the

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares
 
-from friction_model.drywet import DryWetParameters, friction_table
+from friction_model.contact.drywet import DryWetParameters, friction_table
 from friction_model.geometry import BlockGeometry, reference_block
 
 logger = logging.getLogger(__name__)

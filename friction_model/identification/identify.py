@@ -47,8 +47,8 @@ from scipy.optimize import brentq, least_squares
 
 from friction_model._fitting import covariance_from_jacobian
 from friction_model._table_io import TableSource, read_table
+from friction_model.contact.laws import FrictionLaw, fit_law
 from friction_model.dynamics.rigid import SdofParams
-from friction_model.laws import FrictionLaw, fit_law
 
 logger = logging.getLogger(__name__)
 
@@ -358,7 +358,7 @@ def linear_element_response(
     velocity_mps : (N,) ndarray or float
         Sliding velocity v0 at the output times, m/s (>= 0).
     friction : friction law
-        ``mu(v, pressure_Pa=...)`` (any law of :mod:`friction_model.laws`); it gets the
+        ``mu(v, pressure_Pa=...)`` (any law of :mod:`friction_model.contact.laws`); it gets the
         nominal pressure ``F_N / (l w)`` as :func:`~friction_model.dynamics.simulate_sdof` does.
     normal_force_N : float
         Normal force F_N, N (0: no contact and no friction).
@@ -385,7 +385,7 @@ def linear_element_response(
 
     Examples
     --------
-    >>> from friction_model.laws import ConstantLaw
+    >>> from friction_model.contact.laws import ConstantLaw
     >>> p = SdofParams()
     >>> t = np.linspace(0.0, 0.01, 5)
     >>> phi = linear_element_response(p, time_s=t, velocity_mps=1.0, friction=ConstantLaw(0.2),
@@ -812,7 +812,7 @@ def identify_parameters(
         The friction law; its values are the starting (or fixed) values of its parameters.
     steady : SteadyCharacteristic, optional
         Steady mu(v); when given, the law's free parameters start from
-        :func:`~friction_model.laws.fit_law` on it.
+        :func:`~friction_model.contact.laws.fit_law` on it.
     base : SdofParams, optional
         Element geometry, density and the starting E and loss factor (default
         :class:`SdofParams`: G3 element, REF compound).

@@ -9,7 +9,8 @@ friction model:
   :attr:`friction_model.conditions.Conditions.contact_fraction`), per element too, the real
   contact area and the local pressure ``p_local = F_N / A_real`` (section 4.5.1: the load is
   carried by the real contact). :func:`drywet_inputs` turns it into the inputs of
-  :func:`~friction_model.drywet.friction_table` / :func:`~friction_model.drywet.simulate_block`.
+  :func:`~friction_model.contact.drywet.friction_table` /
+  :func:`~friction_model.contact.drywet.simulate_block`.
 * :func:`lever_arm_observations` converts measured front-peak positions (or contact lengths)
   into the eccentricity e of the normal force relative to the element's face centre, and
   :func:`fit_lever_arm` identifies e1..e4 of Eq. 5.21/5.22 from e against the deflection
@@ -353,8 +354,8 @@ def drywet_inputs(measured: MeasuredContact) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``geometry`` (for :func:`~friction_model.drywet.friction_table` /
-        :func:`~friction_model.drywet.simulate_block`) and the condition fields the
+        ``geometry`` (for :func:`~friction_model.contact.drywet.friction_table` /
+        :func:`~friction_model.contact.drywet.simulate_block`) and the condition fields the
         measurement fixes: ``contact_fraction`` (the measured real contact fraction, used
         instead of the model's pressure law) and, with a known normal force,
         ``pressure_Pa`` (nominal). The model's local pressure

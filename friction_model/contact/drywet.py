@@ -15,7 +15,7 @@ conduction into the ice (whose surface is held at the melting point) and into me
     rho_w L dh/dt = K (tau_b + eta v / h) v - q_ice(t)
 
 ``q_ice`` comes from exact 1-D heat conduction into the semi-infinite ice with the full heat
-history of the block (see :mod:`friction_model._march`). This yields both classical limits:
+history of the block (see :mod:`friction_model.contact._march`). This yields both classical limits:
 cold ice, where conduction dominates, gives ``mu ~ v^-1/2`` (Evans); near the melting point,
 where melting dominates, ``h ~ sqrt(v)`` and ``mu ~ v^+1/2`` (Oksanen). When the heat cannot
 keep the film at the critical thickness ``h_c`` the film collapses locally and dry patches
@@ -38,13 +38,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from friction_model._march import Grid, MarchInput, MarchOutput, build_grid, march
-from friction_model._validate import check_nonnegative, check_positive, check_range
 from friction_model.conditions import Conditions
 from friction_model.constants import ICE, WATER, IceProperties, WaterProperties
-from friction_model.effects import Effects
+from friction_model.contact._march import Grid, MarchInput, MarchOutput, build_grid, march
+from friction_model.contact.effects import Effects
+from friction_model.contact.water_layer import freezing_point_depression_K, initial_water_layer_m
 from friction_model.geometry import BlockGeometry
-from friction_model.water_layer import freezing_point_depression_K, initial_water_layer_m
+from tir_common.validate import check_nonnegative, check_positive, check_range
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -67,7 +67,7 @@ class DryWetParameters:
     """Parameters of the dry/wet model (SI units).
 
     The defaults are the one shared parameter set calibrated on Table 4.6 of the thesis
-    (:func:`friction_model.calibration.calibrate_table_4_6`, reproduced by
+    (:func:`friction_model.identification.table_4_6.calibrate_table_4_6`, reproduced by
     ``examples/calibrate_table_4_6.py``; RMSE of mu 0.007, 0.005, 0.007, 0.006 on the four
     curves); ``mu_dry`` and ``heat_fraction`` are the thesis values.
 

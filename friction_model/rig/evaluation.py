@@ -28,7 +28,6 @@ import json
 import logging
 import math
 import os
-import re
 import sys
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -41,15 +40,16 @@ import pandas as pd
 from scipy.integrate import trapezoid
 from tqdm import tqdm
 
-from friction_model._atomic import atomic_write
-from friction_model._rig_io import (
+from friction_model.rig._io import (
     OPTIONAL_COLUMNS,
     REQUIRED_COLUMNS,
     RigRun,
     RunFormatError,
     read_run,
 )
-from friction_model._validate import check_nonnegative, check_positive
+from tir_common.atomic import atomic_write
+from tir_common.naming import natural_key
+from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = [
     "AMBIENT_COLUMNS",
@@ -510,10 +510,6 @@ def _check_same_length(**arrays: np.ndarray) -> None:
     lengths = {name: a.shape[0] for name, a in arrays.items()}
     if len(set(lengths.values())) > 1:
         raise ValueError(f"arrays must have equal lengths, got {lengths}")
-
-
-def _natural_key(text: str) -> tuple:
-    return tuple(int(p) if p.isdigit() else p.lower() for p in re.split(r"(\d+)", text))
 
 
 def _decimate(n: int) -> slice:
@@ -1155,8 +1151,8 @@ def aggregate_runs(
     order = sorted(
         range(len(out)),
         key=lambda i: (
-            _natural_key(out.at[i, "specimen"]),
-            _natural_key(out.at[i, "condition"]),
+            natural_key(out.at[i, "specimen"]),
+            natural_key(out.at[i, "condition"]),
             out.at[i, "velocity_mps"],
         ),
     )
@@ -1237,7 +1233,7 @@ def ambient_table(runs: pd.DataFrame) -> pd.DataFrame:
         }
 
     rows = [summary("Average", data)]
-    for name in sorted(data["specimen"].unique(), key=_natural_key):
+    for name in sorted(data["specimen"].unique(), key=natural_key):
         rows.append(summary(name, data[data["specimen"] == name]))
     return pd.DataFrame(rows, columns=cols)
 
@@ -1267,7 +1263,7 @@ def collect_run_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
         path = Path(raw)
         if path.is_dir():
             found = sorted(
-                (p for p in path.glob("*.csv") if p.is_file()), key=lambda p: _natural_key(p.name)
+                (p for p in path.glob("*.csv") if p.is_file()), key=lambda p: natural_key(p.name)
             )
         else:
             found = [path]
