@@ -20,8 +20,8 @@ from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.analyze import AnalysisOptions, analyze_video
-from tir_contact.calibrate import Reference
 from tir_contact.features import _fit_offset
+from tir_contact.flatfield import Reference
 from tir_contact.segment import (
     _box_and_counts,
     _may_hold_small,

@@ -8,7 +8,6 @@ import pytest
 
 from friction_model.geometry import reference_block
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames
-from tir_contact.calibrate import darkness, reference_from_frames
 from tir_contact.features import (
     ELEMENT_COLUMNS,
     ELEMENT_EXTRA_COLUMNS,
@@ -18,6 +17,7 @@ from tir_contact.features import (
     tir_frame_features,
     tir_frame_records,
 )
+from tir_contact.flatfield import darkness, reference_from_frames
 from tir_contact.segment import segment_frame
 
 PX = 0.1  # mm per pixel of the analytic frames and of the default camera

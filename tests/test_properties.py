@@ -12,8 +12,8 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tir_contact.calibrate import Reference, darkness
 from tir_contact.features import BlockLayout, tir_frame_features
+from tir_contact.flatfield import Reference, darkness
 from tir_contact.segment import segment_frame
 
 H, W = 48, 96

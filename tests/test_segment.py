@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from synthetic.footage import FootageSpec, iter_frames
-from tir_contact.calibrate import Reference, darkness, reference_from_frame, reference_from_frames
+from tir_contact.flatfield import Reference, darkness, reference_from_frame, reference_from_frames
 from tir_contact.segment import estimate_contrast, segment_frame
 
 MM2_PER_PX = 0.1**2  # default camera scale 0.1 mm/px

@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames
-from tir_contact.calibrate import reference_from_frames
+from tir_contact.flatfield import reference_from_frames
 from tir_contact.side import (
     SIDE_ELEMENT_COLUMNS,
     SIDE_FRAME_COLUMNS,

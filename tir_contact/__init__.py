@@ -8,7 +8,7 @@ Footage readers (:mod:`tir_contact.io`)
     :class:`CineReader`, :class:`ArrayReader`, :class:`FootageError`.
 Metadata (:mod:`tir_contact.meta`)
     :func:`load_meta`.
-Reference and segmentation (:mod:`tir_contact.calibrate`, :mod:`tir_contact.segment`)
+Reference and segmentation (:mod:`tir_contact.flatfield`, :mod:`tir_contact.segment`)
     :func:`reference_from_frames`, :func:`reference_from_frame`, :func:`darkness`,
     :class:`Reference`, :func:`segment_frame`, :class:`FrameContact`, :func:`region_table`.
 Features (:mod:`tir_contact.features`, :mod:`tir_contact.side`)
@@ -42,10 +42,10 @@ _LAZY = {
     "MultiPageTiffReader": "tir_contact.io",
     "VideoFileReader": "tir_contact.io",
     "load_meta": "tir_contact.meta",
-    "Reference": "tir_contact.calibrate",
-    "darkness": "tir_contact.calibrate",
-    "reference_from_frame": "tir_contact.calibrate",
-    "reference_from_frames": "tir_contact.calibrate",
+    "Reference": "tir_contact.flatfield",
+    "darkness": "tir_contact.flatfield",
+    "reference_from_frame": "tir_contact.flatfield",
+    "reference_from_frames": "tir_contact.flatfield",
     "FrameContact": "tir_contact.segment",
     "segment_frame": "tir_contact.segment",
     "open_footage": "tir_contact.io",

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from tir_contact.calibrate import Reference, reference_from_frame
+from tir_contact.flatfield import Reference, reference_from_frame
 
 __all__ = ["BoxDarkness", "Normaliser", "RawContactTest"]
 

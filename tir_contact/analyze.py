@@ -6,7 +6,7 @@ second reads one frame at a time. Memory does not grow with the video length; on
 result tables (one row per frame and per element) do.
 
 TIR view (thesis section 4.3.6): darkness ``D = 1 - I / I_ref`` against the free-surface
-reference (:mod:`tir_contact.calibrate`), contact where ``D`` reaches half the contact
+reference (:mod:`tir_contact.flatfield`), contact where ``D`` reaches half the contact
 contrast (:mod:`tir_contact.segment`), then block position, elements, front-edge peaks,
 lift-off and deflection (:mod:`tir_contact.features`). Side view: element chords and
 deflection angles (:mod:`tir_contact.side`).

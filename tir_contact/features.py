@@ -1,7 +1,7 @@
 """Per-frame features of a TIR contact: elements, front-edge peak, lift-off and deflection.
 
 The input is one flat-field-normalised frame (darkness ``D``,
-:func:`tir_contact.calibrate.darkness`) and its segmentation
+:func:`tir_contact.flatfield.darkness`) and its segmentation
 (:func:`tir_contact.segment.segment_frame`). The block slides along the image x axis; its
 elements are strips across the image (along y) separated by the sipes.
 
@@ -88,7 +88,7 @@ Limits
   height, not the compressed height nor the bending shape of the ground truth's chord; on
   the synthetic footage it is within 0.05 deg (G0), 0.43 deg (G3) and 0.85 deg (G7).
 * A dark static feature of the ice that survives the flat field can merge with the contact;
-  the reference (``tir_contact.calibrate``) is responsible for removing it.
+  the reference (``tir_contact.flatfield``) is responsible for removing it.
 
 Notes
 -----
@@ -941,13 +941,13 @@ def tir_frame_features(
     Parameters
     ----------
     d : (M, N) ndarray of float
-        Darkness (:func:`tir_contact.calibrate.darkness`), NaN where excluded.
+        Darkness (:func:`tir_contact.flatfield.darkness`), NaN where excluded.
     contact : FrameContact
         Segmentation of `d` (:func:`tir_contact.segment.segment_frame`).
     layout : BlockLayout
         Scale, sliding direction and (optionally) block geometry and carrier trajectory.
     valid : (M, N) ndarray of bool, optional
-        Usable pixels (:attr:`tir_contact.calibrate.Reference.valid`); only they count for
+        Usable pixels (:attr:`tir_contact.flatfield.Reference.valid`); only they count for
         the nominal area of ``contact_ratio``.
     time_s : float, optional
         Time of the frame (middle of the exposure), s; with the layout's trajectory it gives

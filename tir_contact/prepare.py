@@ -19,8 +19,8 @@ import numpy as np
 
 from tir_contact._darkness import Normaliser
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
-from tir_contact.calibrate import Reference, reference_from_frames
 from tir_contact.features import BlockLayout
+from tir_contact.flatfield import Reference, reference_from_frames
 from tir_contact.illumination import lit_zone_from_file
 from tir_contact.meta import META_FILENAME, clip_footage, read_meta_json
 from tir_contact.options import AnalysisOptions

@@ -2,7 +2,7 @@
 
 A TIR frame is read as darkness ``D = 1 - I / I_free`` against the free (contact-free)
 surface ``I_free``. When the block passes a fixed camera, each pixel's bright percentile
-over the frames is that surface (:func:`tir_contact.calibrate.reference_from_frames`). In a
+over the frames is that surface (:func:`tir_contact.flatfield.reference_from_frames`). In a
 static test, a single photograph or a camera that follows the block, no frame shows the
 surface under the contact, and it has to be estimated from the frame itself.
 
@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from tir_contact.calibrate import Reference
+from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, _fill_holes, shrink
 
 __all__ = [

@@ -1,6 +1,6 @@
 """Segmentation of real contact in flat-field-normalised TIR frames.
 
-Method: a pixel is contact where its darkness ``D`` (see :func:`tir_contact.calibrate.darkness`)
+Method: a pixel is contact where its darkness ``D`` (see :func:`tir_contact.flatfield.darkness`)
 reaches half the contact contrast, the level at which a pixel on a contact edge is half
 covered. The contrast is the median darkness of clearly dark pixels (``D > min_darkness``)
 of the frame, or a value given by the user. Regions smaller than ``min_area_px`` are

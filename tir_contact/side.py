@@ -12,7 +12,7 @@ the root.
 Input
 -----
 ``d``, the darkness image with the rubber positive: ``darkness(frame, reference)`` of
-:mod:`tir_contact.calibrate` when frames without the block give a reference (fixed camera),
+:mod:`tir_contact.flatfield` when frames without the block give a reference (fixed camera),
 or :func:`side_darkness` without one (a camera that follows the block). Background and ice
 are about 0 in ``d``, the rubber is the largest level (0.92 for dark rubber on the default
 backlight, 7.5 for bright rubber on a dark background), the steel carrier lies between.
@@ -110,7 +110,7 @@ import cv2
 import numpy as np
 import pandas as pd
 
-from tir_contact.calibrate import Reference, darkness
+from tir_contact.flatfield import Reference, darkness
 
 __all__ = [
     "SIDE_ELEMENT_COLUMNS",
@@ -405,7 +405,7 @@ def side_darkness(
     """Darkness of a side-view frame, rubber positive, with or without a clean reference.
 
     With ``reference`` (frames without the block, fixed camera) this is
-    :func:`tir_contact.calibrate.darkness`. Without one (a camera that follows the block,
+    :func:`tir_contact.flatfield.darkness`. Without one (a camera that follows the block,
     which never leaves the image) the background is estimated from the frame itself: each
     row's level of backlight or ice is a percentile over the columns (75th for dark rubber,
     25th for bright), refined by a smooth illumination shape fitted to the pixels within
