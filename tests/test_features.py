@@ -9,10 +9,8 @@ import pytest
 from friction_model.geometry import reference_block
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames
 from tir_contact.features import (
-    ELEMENT_COLUMNS,
-    ELEMENT_EXTRA_COLUMNS,
-    FRAME_COLUMNS,
-    FRAME_EXTRA_COLUMNS,
+    ELEMENT_FIELDS,
+    FRAME_KEYS,
     BlockLayout,
     tir_frame_features,
     tir_frame_records,
@@ -50,8 +48,8 @@ def test_two_strips_with_a_gap_are_two_elements_with_exact_lengths():
     layout = BlockLayout(PX, "left", element_lengths_mm=(1.0, 1.0), sipe_width_mm=0.5)
     f = features(d, layout)
     el = f.elements
-    assert list(el.columns) == ELEMENT_COLUMNS + ELEMENT_EXTRA_COLUMNS
-    assert list(f.frame) == FRAME_COLUMNS + FRAME_EXTRA_COLUMNS
+    assert list(el.columns) == ELEMENT_FIELDS
+    assert list(f.frame) == FRAME_KEYS
     assert el["element"].tolist() == [0, 1]
     # Edges on pixel boundaries: the half-level crossings are exact (1e-6 for float32).
     np.testing.assert_allclose(el["contact_length_mm"], [1.0, 1.0], atol=1e-6)
@@ -180,9 +178,7 @@ def test_without_geometry_the_contact_is_one_strip():
     d[:, 21:23] += np.where(d[:, 21:23] > 0, 0.1, 0.0).astype(np.float32)  # darker front
     for direction, front in (("left", 2.0), ("right", 4.1)):
         f = features(d, BlockLayout(PX, direction))
-        assert f.elements.empty and list(f.elements.columns)[: len(ELEMENT_COLUMNS)] == (
-            ELEMENT_COLUMNS
-        )
+        assert f.elements.empty and list(f.elements.columns) == ELEMENT_FIELDS
         assert f.frame["block_in_view"] is True
         assert f.frame["contact_area_mm2"] == pytest.approx(np.count_nonzero(d) * PX**2)
         assert f.frame["block_front_x_mm"] == pytest.approx(front)  # leading column boundary

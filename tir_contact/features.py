@@ -112,7 +112,7 @@ import logging
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -120,12 +120,11 @@ import pandas as pd
 from tir_contact.segment import FrameContact
 
 __all__ = [
-    "ELEMENT_COLUMNS",
     "ELEMENT_DTYPE",
-    "ELEMENT_EXTRA_COLUMNS",
-    "FRAME_COLUMNS",
-    "FRAME_EXTRA_COLUMNS",
+    "ELEMENT_FIELDS",
+    "FRAME_KEYS",
     "BlockLayout",
+    "ElementRow",
     "FrameFeatures",
     "tir_frame_features",
     "tir_frame_records",
@@ -133,8 +132,9 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-#: Keys of :attr:`FrameFeatures.frame` (issue 5), in order.
-FRAME_COLUMNS = [
+#: Keys of :attr:`FrameFeatures.frame`, in order (``frames.csv`` adds the frame, its time
+#: and the video-level flags, :data:`tir_contact.outputs.FRAME_COLUMNS`).
+FRAME_KEYS = [
     "block_in_view",
     "block_front_x_mm",
     "contact_area_mm2",
@@ -143,28 +143,31 @@ FRAME_COLUMNS = [
     "front_peak_x_mm",
     "front_peak_contrast",
     "n_regions",
-]
-#: Further keys of :attr:`FrameFeatures.frame`: the block means of the element deflections.
-FRAME_EXTRA_COLUMNS = ["deflection_angle_deg", "tip_deflection_mm"]
-#: Columns of :attr:`FrameFeatures.elements` (issue 5), in order.
-ELEMENT_COLUMNS = [
-    "element",
-    "contact_area_mm2",
-    "contact_length_mm",
-    "front_edge_x_mm",
-    "front_peak_x_mm",
-    "front_peak_width_mm",
-    "front_peak_contrast",
-    "liftoff_mm",
     "deflection_angle_deg",
+    "tip_deflection_mm",
 ]
-#: Further columns of :attr:`FrameFeatures.elements`, after :data:`ELEMENT_COLUMNS`.
-ELEMENT_EXTRA_COLUMNS = ["tip_deflection_mm"]
+
+
+class ElementRow(NamedTuple):
+    """Features of one element in contact in one frame (see the module notes for each)."""
+
+    element: int
+    contact_area_mm2: float
+    contact_length_mm: float
+    front_edge_x_mm: float
+    front_peak_x_mm: float
+    front_peak_contrast: float
+    liftoff_mm: float
+    deflection_angle_deg: float
+    front_peak_width_mm: float
+    tip_deflection_mm: float
+
+
+#: Columns of :attr:`FrameFeatures.elements`, in order (``elements.csv`` puts the frame and
+#: its time first, :data:`tir_contact.outputs.ELEMENT_COLUMNS`).
+ELEMENT_FIELDS = list(ElementRow._fields)
 #: Record type of the elements of :func:`tir_frame_records` (the element index as int64).
-ELEMENT_DTYPE = np.dtype(
-    [("element", np.int64)]
-    + [(c, np.float64) for c in ELEMENT_COLUMNS[1:] + ELEMENT_EXTRA_COLUMNS]
-)
+ELEMENT_DTYPE = np.dtype([("element", np.int64)] + [(c, np.float64) for c in ELEMENT_FIELDS[1:]])
 
 #: Columns beyond the contact that the features read the darkness of (edge crossings); the
 #: darkness is read only in the contact rows and these widened columns.
@@ -376,9 +379,9 @@ class FrameFeatures:
     Attributes
     ----------
     frame : dict
-        Keys :data:`FRAME_COLUMNS` then :data:`FRAME_EXTRA_COLUMNS` (see the module notes).
+        Keys :data:`FRAME_KEYS` (see the module notes).
     elements : pandas.DataFrame
-        Columns :data:`ELEMENT_COLUMNS` then :data:`ELEMENT_EXTRA_COLUMNS`; one row per
+        Columns :data:`ELEMENT_FIELDS`; one row per
         element in contact, element 0 leading; empty without geometry.
     """
 
@@ -747,7 +750,7 @@ def tir_frame_records(
     Returns
     -------
     frame : dict
-        Keys :data:`FRAME_COLUMNS` + :data:`FRAME_EXTRA_COLUMNS`.
+        Keys :data:`FRAME_KEYS`.
     elements : (n,) ndarray of ELEMENT_DTYPE
         One record per element in contact, element 0 first.
 
@@ -771,68 +774,80 @@ def tir_frame_records(
         raise ValueError(f"valid must have the shape of d {d.shape}, got {valid.shape}")
     if not (math.isfinite(peak_window_mm) and peak_window_mm > 0):
         raise ValueError(f"peak_window_mm must be > 0, got {peak_window_mm=}")
-    frame, rows = _frame_rows(d, contact, layout, valid, time_s, peak_window_mm)
-    return frame, _element_records(rows)
+    frame, rows = frame_rows(d, contact, layout, valid, time_s, peak_window_mm)
+    return frame, element_records(rows)
 
 
-def _element_records(rows: list[tuple]) -> np.ndarray:
-    """Element tuples (the fields of :data:`ELEMENT_DTYPE`, in order) as a record array."""
+def element_records(rows: list[ElementRow]) -> np.ndarray:
+    """Element rows as a record array of :data:`ELEMENT_DTYPE` (one array per batch)."""
     rec = np.zeros(len(rows), ELEMENT_DTYPE)
     if rows:
         rec[:] = rows
     return rec
 
 
-def _frame_rows(
+def _contact_span(
+    contact: FrameContact, counts: np.ndarray, row_counts: np.ndarray
+) -> tuple[int, int, int, int] | None:
+    """Rows ``r0:r1`` and columns ``c_lo:c_hi`` holding contact (image frame), None if none."""
+    span = _tight_box(contact.box, counts, row_counts)
+    if span is not None:
+        return span
+    nz = counts.nonzero()[0]
+    if nz.size == 0:
+        return None
+    rows_on = row_counts.nonzero()[0]
+    return int(rows_on[0]), int(rows_on[-1]) + 1, int(nz[0]), int(nz[-1]) + 1
+
+
+def _image_mm(x_px: float, n_cols: int, px: float, flip: bool) -> float:
+    """A position in the mirrored frame (px, leading side left) as image x in mm."""
+    return (n_cols - x_px) * px if flip else x_px * px
+
+
+def _frame_without_geometry(
     d: np.ndarray,
     contact: FrameContact,
     layout: BlockLayout,
-    valid: np.ndarray | None,
-    time_s: float | None,
+    counts: np.ndarray,
+    span: tuple[int, int, int, int],
     peak_window_mm: float,
-    sums: ColumnSums | None = None,
-    valid_counts: ValidCounts | None = None,
-) -> tuple[dict[str, float | int | bool], list[tuple]]:
-    """:func:`tir_frame_records` without the checks, the elements as a list of tuples.
-
-    The tuples hold the fields of :data:`ELEMENT_DTYPE` in order (a batch builds one record
-    array at the end instead of one per frame). `sums`: column sums of `d` already taken
-    (see :func:`_column_mean`); `valid_counts`: the video's cache of valid-pixel counts.
-    """
+) -> dict[str, float | int | bool]:
+    """The whole contact as one strip: area, block front and front peak (module notes)."""
     px = layout.mm_per_px
     n_cols = d.shape[1]
-    n_regions = contact.n_regions
-    counts, row_counts = contact.line_counts
-    span_px = _tight_box(contact.box, counts, row_counts)
-    if span_px is None:
-        nz = counts.nonzero()[0]
-        if nz.size == 0:
-            return _empty_frame(n_regions), []
-        rows_on = row_counts.nonzero()[0]
-        span_px = int(rows_on[0]), int(rows_on[-1]) + 1, int(nz[0]), int(nz[-1]) + 1
-    r0, r1, c_lo, c_hi = span_px  # rows and columns holding contact (image frame)
     flip = layout.sliding_direction == "right"
+    _, _, c_lo, c_hi = span
+    total = int(counts[c_lo:c_hi].sum())
+    frame = _empty_frame(contact.n_regions, total * px * px)
+    frame["block_in_view"] = True
+    prof = _masked_column_mean(d, contact.mask, counts, c_lo, c_hi)
+    if flip:
+        prof = prof[::-1]
+        c_lo, c_hi = n_cols - c_hi, n_cols - c_lo
+    p = [0.0] * c_lo + prof.tolist() + [0.0] * (n_cols - c_hi)
+    if c_lo > 0:
+        frame["block_front_x_mm"] = _image_mm(float(c_lo), n_cols, px, flip)
+        pos, _, contrast = _front_peak(p, c_lo, c_hi - 1, peak_window_mm / px)
+        frame["front_peak_x_mm"] = _image_mm(pos, n_cols, px, flip)
+        frame["front_peak_contrast"] = contrast
+    return frame
 
-    def to_image(x_px: float) -> float:  # mirrored px -> image mm
-        return (n_cols - x_px) * px if flip else x_px * px
 
-    if layout.element_lengths_mm is None:
-        total = int(counts[c_lo:c_hi].sum())
-        frame = _empty_frame(n_regions, total * px * px)
-        frame["block_in_view"] = True
-        prof = _masked_column_mean(d, contact.mask, counts, c_lo, c_hi)
-        if flip:
-            prof = prof[::-1]
-            c_lo, c_hi = n_cols - c_hi, n_cols - c_lo
-        p = [0.0] * c_lo + prof.tolist() + [0.0] * (n_cols - c_hi)
-        if c_lo > 0:
-            frame["block_front_x_mm"] = to_image(float(c_lo))
-            pos, _, contrast = _front_peak(p, c_lo, c_hi - 1, peak_window_mm / px)
-            frame["front_peak_x_mm"] = to_image(pos)
-            frame["front_peak_contrast"] = contrast
-        return frame, []
+def _mirrored_profiles(
+    d: np.ndarray,
+    counts: np.ndarray,
+    span: tuple[int, int, int, int],
+    flip: bool,
+    sums: ColumnSums | None,
+) -> tuple[list[float], np.ndarray, list[int], list[int]]:
+    """Step 1 of the module notes in the mirrored frame (leading side left).
 
-    # -- with geometry: the two profiles in the mirrored frame (leading side left) -----------
+    Returns the darkness profile ``p`` over all columns, the contact counts ``n``, and the
+    first and last columns of the runs above half coverage.
+    """
+    r0, r1, c_lo, c_hi = span
+    n_cols = d.shape[1]
     a, b = max(c_lo - EDGE_MARGIN_PX, 0), min(c_hi + EDGE_MARGIN_PX, n_cols)
     prof = _column_mean(d, r0, r1, a, b, sums)
     p = [0.0] * n_cols
@@ -844,26 +859,22 @@ def _frame_rows(
         counts = counts[::-1]
         last = n_cols - 1
         starts, ends = [last - c for c in reversed(ends)], [last - c for c in reversed(starts)]
-    fronts, lengths = layout._template_px
-    fronts_l, lengths_l, quarters_l = layout._template_lists
-    x_und = layout.undeformed_front_mm(time_s, n_cols * px)
-    x0_carrier = _NAN
-    if math.isfinite(x_und):
-        x0_carrier = n_cols - x_und / px if flip else x_und / px
-    x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier, fronts_l, lengths_l)
-    pieces = _assign(starts, ends, x0, fronts_l, lengths_l, quarters_l,
-                     layout.sipe_width_mm / px)
+    return p, counts, starts, ends
 
-    # Columns between runs (below half coverage) count for the area of the nearer run.
-    bounds = [0]
-    for (_, _, c1a, _, _), (_, c0b, _, _, _) in itertools.pairwise(pieces):
-        bounds.append((c1a + 1 + c0b) // 2)
-    areas = np.add.reduceat(counts, bounds, dtype=np.int64).tolist()
-    total = sum(areas)  # the pieces' areas partition the columns
-    frame = _empty_frame(n_regions, total * px * px)
-    frame["block_in_view"] = True
 
-    per: dict[int, list[Any]] = {}  # element -> [front, length, area, c0, c1, clip_f, clip_b]
+def _element_runs(
+    pieces: list[tuple[int, int, int, bool, bool]],
+    areas: list[int],
+    p: list[float],
+    n_cols: int,
+) -> dict[int, list[Any]]:
+    """Step 3: each element's front edge, summed length, area and first run (px).
+
+    Values per element: ``[front, length, area, c0, c1, front_clipped, back_clipped]``; a
+    further run of the same element adds its length and area, the front and peak stay the
+    first run's.
+    """
+    per: dict[int, list[Any]] = {}
     for (i, c0, c1, split_f, split_b), area in zip(pieces, areas, strict=True):
         level = 0.5 * _median(p[c0 : c1 + 1])
         x_f = float(c0) if split_f else _front_edge(p, c0, c1, level)
@@ -871,12 +882,27 @@ def _frame_rows(
         e = per.get(i)
         if e is None:
             per[i] = [x_f, x_b - x_f, area, c0, c1, c0 == 0 and not split_f, c1 == n_cols - 1]
-        else:  # a further run of the same element (front and peak stay the first run's)
+        else:
             e[1] += x_b - x_f
             e[2] += area
             e[6] = c1 == n_cols - 1
+    return per
 
+
+def _element_rows(
+    per: dict[int, list[Any]],
+    x0: float,
+    x_und: float,
+    layout: BlockLayout,
+    p: list[float],
+    n_cols: int,
+    peak_window_mm: float,
+) -> list[ElementRow]:
+    """Steps 4 to 6 of the module notes: peak, lift-off and deflection of each element."""
+    px = layout.mm_per_px
+    flip = layout.sliding_direction == "right"
     s = -1.0 if flip else 1.0
+    fronts_l, lengths_l, _ = layout._template_lists
     fronts_mm = layout.element_fronts_mm
     lengths_mm = layout.element_lengths_mm
     height = layout.height_mm
@@ -890,9 +916,9 @@ def _frame_rows(
         if clip_f:
             front_mm = pk_mm = width_mm = contrast = _NAN
         else:
-            front_mm = to_image(x_f)
+            front_mm = _image_mm(x_f, n_cols, px, flip)
             pos, width_px, contrast = _front_peak(p, c0, c1, window_px)
-            pk_mm = to_image(pos) if pos == pos else _NAN
+            pk_mm = _image_mm(pos, n_cols, px, flip) if pos == pos else _NAN
             width_mm = width_px * px
         tip = angle = _NAN
         if front_mm == front_mm and x_und == x_und:
@@ -900,30 +926,101 @@ def _frame_rows(
             if height is not None:
                 angle = math.degrees(math.atan2(tip, height))
         liftoff = _NAN if (clip_f or clip_b or not inside) else max(0.0, lengths_mm[i] - length_mm)
-        rows.append((i, area * px * px, length_mm, front_mm, pk_mm, width_mm, contrast,
-                     liftoff, angle, tip))
-    frame["n_elements_in_contact"] = len(rows)
+        rows.append(ElementRow(i, area * px * px, length_mm, front_mm, pk_mm, contrast,
+                               liftoff, angle, width_mm, tip))
+    return rows
+
+
+def _contact_ratio(
+    total_px: int,
+    x0: float,
+    layout: BlockLayout,
+    span: tuple[int, int, int, int],
+    n_cols: int,
+    valid: np.ndarray | None,
+    valid_counts: ValidCounts | None,
+) -> float:
+    """Contact area over the nominal visible area of the fitted template (module notes)."""
+    r0, r1 = span[:2]
+    fronts_l, lengths_l, _ = layout._template_lists
     if valid is not None:
-        vcum = _valid_cumsum(valid, r0, r1, flip, valid_counts)
-        span = 0.0
+        vcum = _valid_cumsum(valid, r0, r1, layout.sliding_direction == "right", valid_counts)
+        rows_px = 0.0
     else:
         vcum = None
-        span = float(r1 - r0)
+        rows_px = float(r1 - r0)
         if layout.width_mm is not None:
-            span = min(span, layout.width_mm / px)
-    nominal = _nominal_px2(x0, fronts_l, lengths_l, n_cols, span, vcum)
-    frame["contact_ratio"] = total / nominal if nominal > 0 else _NAN
-    if rows:
-        lead = rows[0]
-        frame["block_front_x_mm"] = lead[3]
-        frame["front_peak_x_mm"] = lead[4]
-        frame["front_peak_contrast"] = lead[6]
-        tips = [r[9] for r in rows if r[9] == r[9]]
-        angles = [r[8] for r in rows if r[8] == r[8]]
-        if tips:
-            frame["tip_deflection_mm"] = sum(tips) / len(tips)
-        if angles:
-            frame["deflection_angle_deg"] = sum(angles) / len(angles)
+            rows_px = min(rows_px, layout.width_mm / layout.mm_per_px)
+    nominal = _nominal_px2(x0, fronts_l, lengths_l, n_cols, rows_px, vcum)
+    return total_px / nominal if nominal > 0 else _NAN
+
+
+def _block_values(frame: dict[str, float | int | bool], rows: list[ElementRow]) -> None:
+    """The block's values from its elements: the leading one's front and peak, mean angles."""
+    frame["n_elements_in_contact"] = len(rows)
+    if not rows:
+        return
+    lead = rows[0]
+    frame["block_front_x_mm"] = lead.front_edge_x_mm
+    frame["front_peak_x_mm"] = lead.front_peak_x_mm
+    frame["front_peak_contrast"] = lead.front_peak_contrast
+    tips = [r.tip_deflection_mm for r in rows if r.tip_deflection_mm == r.tip_deflection_mm]
+    angles = [r.deflection_angle_deg for r in rows
+              if r.deflection_angle_deg == r.deflection_angle_deg]
+    if tips:
+        frame["tip_deflection_mm"] = sum(tips) / len(tips)
+    if angles:
+        frame["deflection_angle_deg"] = sum(angles) / len(angles)
+
+
+def frame_rows(
+    d: np.ndarray,
+    contact: FrameContact,
+    layout: BlockLayout,
+    valid: np.ndarray | None,
+    time_s: float | None,
+    peak_window_mm: float,
+    sums: ColumnSums | None = None,
+    valid_counts: ValidCounts | None = None,
+) -> tuple[dict[str, float | int | bool], list[ElementRow]]:
+    """:func:`tir_frame_records` without the checks, the elements as :class:`ElementRow`.
+
+    A batch builds one record array at the end (:func:`element_records`) instead of one per
+    frame. `sums`: column sums of `d` already taken (see :func:`_column_mean`);
+    `valid_counts`: the video's cache of valid-pixel counts.
+    """
+    px = layout.mm_per_px
+    n_cols = d.shape[1]
+    counts, row_counts = contact.line_counts
+    span = _contact_span(contact, counts, row_counts)
+    if span is None:
+        return _empty_frame(contact.n_regions), []
+    if layout.element_lengths_mm is None:
+        return _frame_without_geometry(d, contact, layout, counts, span, peak_window_mm), []
+    flip = layout.sliding_direction == "right"
+    p, counts, starts, ends = _mirrored_profiles(d, counts, span, flip, sums)
+    # Step 2: the template's offset and the element of each run.
+    fronts, lengths = layout._template_px
+    fronts_l, lengths_l, quarters_l = layout._template_lists
+    x_und = layout.undeformed_front_mm(time_s, n_cols * px)
+    x0_carrier = _NAN
+    if math.isfinite(x_und):
+        x0_carrier = n_cols - x_und / px if flip else x_und / px
+    x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier, fronts_l, lengths_l)
+    pieces = _assign(starts, ends, x0, fronts_l, lengths_l, quarters_l,
+                     layout.sipe_width_mm / px)
+    # Columns between runs (below half coverage) count for the area of the nearer run.
+    bounds = [0]
+    for (_, _, c1a, _, _), (_, c0b, _, _, _) in itertools.pairwise(pieces):
+        bounds.append((c1a + 1 + c0b) // 2)
+    areas = np.add.reduceat(counts, bounds, dtype=np.int64).tolist()
+    total = sum(areas)  # the pieces' areas partition the columns
+    frame = _empty_frame(contact.n_regions, total * px * px)
+    frame["block_in_view"] = True
+    per = _element_runs(pieces, areas, p, n_cols)
+    rows = _element_rows(per, x0, x_und, layout, p, n_cols, peak_window_mm)
+    frame["contact_ratio"] = _contact_ratio(total, x0, layout, span, n_cols, valid, valid_counts)
+    _block_values(frame, rows)
     return frame, rows
 
 

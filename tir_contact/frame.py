@@ -30,7 +30,13 @@ import numpy as np
 import pandas as pd
 
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
-from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, _element_records, _frame_rows
+from tir_contact.features import (
+    EDGE_MARGIN_PX,
+    ElementRow,
+    ValidCounts,
+    element_records,
+    frame_rows,
+)
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup
 from tir_contact.segment import FrameContact, _box_and_counts, _label_box, label_contact
@@ -47,9 +53,9 @@ class FrameResult:
     ----------
     row : dict
         The frame's row of ``frames.csv`` (``frame``, ``time_s`` and the measured columns).
-    elements : list of tuple or pandas.DataFrame
-        TIR: one tuple per element, the fields of ``tir_contact.features.ELEMENT_DTYPE`` in
-        order (:meth:`element_table` makes a table of them); side view: the element table.
+    elements : list of ElementRow or pandas.DataFrame
+        TIR: one :class:`~tir_contact.features.ElementRow` per element in contact
+        (:meth:`element_table` makes a table of them); side view: the element table.
     regions : dict of ndarray or None
         TIR: every contact region's columns (pixels), when regions are wanted.
     detail : FrameContact or SideFeatures
@@ -57,7 +63,7 @@ class FrameResult:
     """
 
     row: dict[str, Any]
-    elements: list[tuple] | pd.DataFrame
+    elements: list[ElementRow] | pd.DataFrame
     regions: dict[str, np.ndarray] | None
     detail: Any
 
@@ -65,7 +71,7 @@ class FrameResult:
         """The elements as a table with ``frame`` and ``time_s`` first."""
         if isinstance(self.elements, pd.DataFrame):
             return self.elements
-        rec = _element_records(self.elements)
+        rec = element_records(self.elements)
         df = pd.DataFrame({name: rec[name] for name in rec.dtype.names})
         df.insert(0, "time_s", self.row["time_s"])
         df.insert(0, "frame", self.row["frame"])
@@ -188,7 +194,7 @@ class FrameAnalyser:
         s = self.setup
         t = k / s.fps
         d, contact, sums = self.segment(frame)
-        row, el_rows = _frame_rows(d, contact, s.layout, self.normalise.valid, t, 1.0, sums,
+        row, el_rows = frame_rows(d, contact, s.layout, self.normalise.valid, t, 1.0, sums,
                                    self._valid_counts)
         row["frame"] = k
         row["time_s"] = t

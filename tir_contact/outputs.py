@@ -20,7 +20,7 @@ import pandas as pd
 
 from tir_contact._outdir import replace_folder, staging_folder, temporary_name, write_json
 from tir_contact._readers import FootageError
-from tir_contact.features import _element_records
+from tir_contact.features import ELEMENT_FIELDS, FRAME_KEYS, element_records
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup, footage_fingerprint
 
@@ -35,39 +35,21 @@ __all__ = [
     "write_results",
 ]
 
-#: Columns of ``frames.csv``, in order (the first nine are those of the issue, then extras).
+#: Columns of ``frames.csv``, in order: the frame and its time, the per-frame features
+#: (:data:`tir_contact.features.FRAME_KEYS`, with the video's ``block_fully_in_view`` after the
+#: block's front peak) and whether the contact touches the lit zone's rim.
 FRAME_COLUMNS = [
     "frame",
     "time_s",
-    "block_in_view",
-    "block_front_x_mm",
-    "contact_area_mm2",
-    "contact_ratio",
-    "n_elements_in_contact",
-    "front_peak_x_mm",
-    "front_peak_contrast",
+    *FRAME_KEYS[:7],
     "block_fully_in_view",
-    "n_regions",
-    "deflection_angle_deg",
-    "tip_deflection_mm",
+    *FRAME_KEYS[7:],
     "contact_at_lit_rim",
 ]
 
-#: Columns of ``elements.csv``, in order (element 0 leads).
-ELEMENT_COLUMNS = [
-    "frame",
-    "time_s",
-    "element",
-    "contact_area_mm2",
-    "contact_length_mm",
-    "front_edge_x_mm",
-    "front_peak_x_mm",
-    "front_peak_contrast",
-    "liftoff_mm",
-    "deflection_angle_deg",
-    "front_peak_width_mm",
-    "tip_deflection_mm",
-]
+#: Columns of ``elements.csv``, in order (element 0 leads): the frame and its time, then
+#: :data:`tir_contact.features.ELEMENT_FIELDS`.
+ELEMENT_COLUMNS = ["frame", "time_s", *ELEMENT_FIELDS]
 
 #: Columns of ``regions.csv`` (every contact region, no geometry needed).
 REGION_COLUMNS = [
@@ -185,7 +167,7 @@ def _records_table(rows: list[tuple], frames: list[int], fps: float) -> pd.DataF
     """The elements table from the element tuples of every frame, built once."""
     if not rows:
         return pd.DataFrame(columns=ELEMENT_COLUMNS)
-    rec = _element_records(rows)
+    rec = element_records(rows)
     frame = np.array(frames, dtype=np.int64)
     data = {"frame": frame, "time_s": frame / fps}
     data.update({name: rec[name] for name in rec.dtype.names})
