@@ -675,6 +675,307 @@ def _listed_by_geometry(
     return np.nonzero((hi > 0.5) & (lo < w - 0.5))[0]
 
 
+@dataclass(frozen=True)
+class _SideGeometry:
+    """What the side view knows of the block, in pixels of the working frame."""
+
+    px: float
+    flip: bool  # the block slides right: the image is mirrored to put the leading end left
+    lengths: tuple[float, ...] | None
+    n_el: int | None
+    sipe_mm: float
+    height_px: float
+
+
+def _side_geometry(layout: SideLayoutLike) -> _SideGeometry:
+    """Check the layout and read what the side view needs of it."""
+    px = float(layout.mm_per_px)
+    if not (math.isfinite(px) and px > 0):
+        raise ValueError(f"layout.mm_per_px must be a number > 0, got {layout.mm_per_px!r}")
+    direction = layout.sliding_direction
+    if direction not in ("left", "right"):
+        raise ValueError(
+            f"layout.sliding_direction must be 'left' or 'right', got {direction!r}"
+        )
+    lengths = layout.element_lengths_mm
+    h_mm = getattr(layout, "height_mm", None)
+    return _SideGeometry(
+        px=px,
+        flip=direction == "right",
+        lengths=lengths,
+        n_el=len(lengths) if lengths is not None else None,
+        sipe_mm=float(getattr(layout, "sipe_width_mm", 0.0) or 0.0),
+        height_px=float(h_mm) / px if h_mm else math.nan,
+    )
+
+
+def _working_image(
+    d: np.ndarray, valid: np.ndarray | None, flip: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Darkness (0 where unusable) and the usable pixels, leading end on the left."""
+    arr = _check_image("d", d).astype(np.float32, copy=False)
+    ok = np.isfinite(arr)
+    if valid is not None:
+        valid = np.asarray(valid, dtype=bool)
+        if valid.shape != arr.shape:
+            raise ValueError(f"valid has shape {valid.shape}, expected {arr.shape} as d")
+        ok &= valid
+    if not ok.all():
+        arr = np.where(ok, arr, np.float32(0.0))
+    if flip:  # x grows towards the trailing side
+        arr, ok = arr[:, ::-1], ok[:, ::-1]
+    return arr, ok
+
+
+@dataclass(frozen=True)
+class _Band:
+    """The rubber band (carrier underside down to the ice) in the working frame.
+
+    ``n`` is the darkness over the rubber level in the band rows (and a few ice rows below)
+    and the block's columns; ``runs`` its half-contrast runs; per run, ``order`` counts the
+    runs of its row from the left and ``from_right`` from the right.
+    """
+
+    n: np.ndarray
+    runs: _Runs
+    top: int
+    nrow: int
+    c0: int
+    w: int
+    per_row: np.ndarray
+    order: np.ndarray
+    from_right: np.ndarray
+
+    def to_mm(self, x: np.ndarray | float, geo: _SideGeometry) -> np.ndarray | float:
+        """Band-window x (index coordinates) to image mm from the left edge."""
+        xi = x + self.c0
+        return ((self.w - 1 - xi if geo.flip else xi) + 0.5) * geo.px
+
+
+def _rubber_band(
+    arr: np.ndarray, ok: np.ndarray, geo: _SideGeometry, min_darkness: float
+) -> _Band | None:
+    """Steps 1 and 2: the rubber level, the band of rows holding rubber, its runs."""
+    h, w = arr.shape
+    sub = arr[::3, ::3]
+    hi = sub[sub > min_darkness]
+    if hi.size < 8:
+        return None
+    p95 = float(np.partition(hi, int(0.95 * (hi.size - 1)))[int(0.95 * (hi.size - 1))])
+    level = float(np.median(hi[hi > 0.8 * p95]))
+    count = (arr > _RUBBER_ONLY * level).view(np.uint8).sum(axis=1, dtype=np.int32)
+    peak = int(np.argmax(count))
+    inband = count >= max(3, 0.2 * count[peak])
+    if not inband[peak]:
+        return None
+    top, bot = peak, peak
+    while top > 0 and inband[top - 1]:
+        top -= 1
+    while bot < h - 1 and inband[bot + 1]:
+        bot += 1
+    nrow = bot + 1 - top
+    if nrow < max(16, 0.75 * geo.height_px if math.isfinite(geo.height_px) else 0):
+        return None  # too low for base plus elements (e.g. only the carrier in view)
+    # the block's columns (and 3 px of background either side)
+    cols_in = np.nonzero(arr[top : bot + 1].max(axis=0) > 0.5 * level)[0]
+    c0, c1 = max(int(cols_in[0]) - 3, 0), min(int(cols_in[-1]) + 4, w)
+    n = arr[top : min(bot + 6, h), c0:c1] / np.float32(level)  # a few ice rows below
+    runs = _runs(n[:nrow], ok[top : bot + 1, c0:c1])
+    rr = runs.row
+    per_row = np.bincount(rr, minlength=nrow)
+    order = np.arange(rr.size) - np.searchsorted(rr, np.arange(nrow))[rr]
+    return _Band(n, runs, top, nrow, c0, w, per_row, order, per_row[rr] - 1 - order)
+
+
+def _block_end(band: _Band, geo: _SideGeometry) -> tuple[bool, bool, float, np.ndarray] | None:
+    """The block base's leading and trailing faces: which is cut, the end in view, and the
+    elements whose roots the geometry puts inside the image; None if they cannot be indexed.
+    """
+    runs, rr = band.runs, band.runs.row
+    b0, b1 = _BASE_ROWS
+    base = (rr >= b0) & (rr < b1) & (band.per_row[rr] == 1)
+    if not base.any():
+        return None
+    front_cut = bool(runs.cut_left[base].any())
+    back_cut = bool(runs.cut_right[base].any())
+    if front_cut and (back_cut or geo.n_el is None):
+        return None  # neither end in view: the elements cannot be indexed
+    end_x = float(np.median(runs.right[base] if front_cut else runs.left[base]))
+    listed = (
+        _listed_by_geometry(geo.lengths, geo.sipe_mm, geo.px, end_x + band.c0, not front_cut,
+                            band.w)
+        if geo.lengths is not None
+        else np.zeros(0, dtype=np.int64)
+    )
+    return front_cut, back_cut, end_x, listed
+
+
+def _root_row(band: _Band, geo: _SideGeometry, front_cut: bool, back_cut: bool) -> float:
+    """Steps 3 and 4: the root row from the sipe ground, else the kink of the outer faces."""
+    runs, rr, per_row, nrow = band.runs, band.runs.row, band.per_row, band.nrow
+    b0, b1 = _BASE_ROWS
+    split = per_row >= 2
+    split[:b1] = False
+    cand = np.nonzero(split[:-2] & split[1:-1] & split[2:])[0]
+    single = geo.n_el == 1 or (geo.n_el is None and cand.size == 0)
+    if not single:
+        return _sipe_root(band.n, runs, cand) if cand.size else math.nan
+    if front_cut or back_cut:
+        return math.nan  # the only element is partly outside the image
+    inner = (rr >= b0) & (rr < nrow - 1) & (per_row[rr] == 1)
+    return _hinge_root(
+        [(rr[inner].astype(float), runs.left[inner]),
+         (rr[inner].astype(float), runs.right[inner])],
+        float(b1),
+        nrow - 8.0,
+    )
+
+
+def _elements_without_root(band: _Band, geo: _SideGeometry, front_cut: bool,
+                           listed: np.ndarray) -> SideFeatures:
+    """No sipe ground between two elements inside the image (or a partial single element):
+    the elements in view are listed without values."""
+    logger.debug("side view: root row not found, elements listed without values")
+    seen = np.unique((geo.n_el - 1 - band.from_right) if front_cut else band.order)
+    if geo.n_el is None:
+        return _empty(seen)
+    seen = seen[(seen >= 0) & (seen < geo.n_el)]
+    return _empty(np.union1d(listed, seen))
+
+
+def _element_samples(
+    band: _Band, geo: _SideGeometry, root: float, front_cut: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """The element index of every run (counted from the block end in view) and the runs
+    used for the fits, sorted by element with rows ascending within each element."""
+    rr, nrow = band.runs.row, band.nrow
+    pos = band.from_right if front_cut else band.order
+    idx = geo.n_el - 1 - band.from_right if front_cut else band.order
+    usable = (rr > root + 1.0) & (rr < nrow - 1) & (idx >= 0)
+    if geo.n_el is not None:
+        usable &= idx < geo.n_el
+        max_w = np.asarray(geo.lengths, dtype=float) / geo.px * 1.6 + 3.0
+        bad = np.zeros(rr.size, dtype=bool)
+        bad[usable] = (band.runs.right - band.runs.left)[usable] > max_w[idx[usable]]
+        if bad.any():
+            spoil = np.full(nrow, np.iinfo(np.int64).max)
+            np.minimum.at(spoil, rr[bad], pos[bad])
+            usable &= pos < spoil[rr]  # a merged run spoils its row from there on
+    sel = np.nonzero(usable)[0]
+    sel = sel[np.argsort(idx[sel], kind="stable")]
+    return idx, sel
+
+
+@dataclass(frozen=True)
+class _FaceFits:
+    """Cubic fits of both faces of every element, in ``s = (row - root) / scale``."""
+
+    coef: np.ndarray  # (E, 4, 2): leading and trailing face
+    centre: np.ndarray  # (E, 4): the centreline
+    scale: np.ndarray  # (E,) rows from the root to the element's last sample
+    rms: np.ndarray  # (E,) rms residual of the kept rows, px
+    s_last: np.ndarray  # (E,) s of the last kept row
+    seen: np.ndarray  # (E,) the element has samples
+    fitted: np.ndarray  # element indices with a usable fit
+
+
+def _fit_faces(band: _Band, root: float, idx: np.ndarray, sel: np.ndarray) -> _FaceFits:
+    """Step 5: cubic fits of both faces, the upper part first, then down to the first row
+    where a face leaves that fit (a lifted or squeezed lower end)."""
+    runs = band.runs
+    e_s = idx[sel]
+    n_idx = int(e_s[-1]) + 1 if e_s.size else 0
+    n_rows = np.bincount(e_s, minlength=n_idx)
+    seen = n_rows > 0
+    starts = np.concatenate([[0], np.cumsum(n_rows)[:-1]]).astype(np.int64)
+    n_cut = np.bincount(e_s, weights=(runs.cut_left | runs.cut_right)[sel], minlength=n_idx)
+    fit_ok = (n_rows >= 10) & (n_cut == 0)
+    t_s = runs.row[sel] - root
+    scale = np.where(seen, t_s[np.maximum(starts + n_rows - 1, 0)] if e_s.size else 1.0, 1.0)
+    scale = np.maximum(scale, 1.0)
+    s_s = t_s / scale[e_s]
+    xs = np.column_stack([runs.left[sel], runs.right[sel]])
+    upper = (s_s <= _UPPER_FRACTION).astype(float)
+    coef = _batched_cubic(e_s, s_s, xs, upper, n_idx)
+    res = xs - _cubic(np.moveaxis(coef[e_s], 2, 1), s_s[:, None])
+    ss_u = np.bincount(e_s, weights=upper * (res**2).sum(1), minlength=n_idx)
+    rms_u = np.sqrt(ss_u / np.maximum(2 * np.bincount(e_s, weights=upper, minlength=n_idx), 1))
+    tol = np.maximum(_MIN_TOL_PX, 4.0 * rms_u)
+    off = (np.abs(res) > tol[e_s, None]).any(1) & (upper == 0)
+    # keep each element's rows above its first row off the fit
+    cum_off = np.concatenate([[0], np.cumsum(off)])
+    keep = (cum_off[1:] - cum_off[starts[e_s]] == 0).astype(float)
+    coef = _batched_cubic(e_s, s_s, xs, keep, n_idx)
+    res = xs - _cubic(np.moveaxis(coef[e_s], 2, 1), s_s[:, None])
+    n_keep = np.bincount(e_s, weights=keep, minlength=n_idx)
+    rms = np.sqrt(
+        np.bincount(e_s, weights=keep * (res**2).sum(1), minlength=n_idx)
+        / np.maximum(2 * n_keep, 1)
+    )
+    last = np.clip(starts + n_keep.astype(np.int64) - 1, 0, max(e_s.size - 1, 0))
+    s_last = np.where(n_keep > 0, s_s[last] if e_s.size else 0.0, 0.0)
+    fit_ok &= n_keep >= 8
+    return _FaceFits(coef, coef.mean(axis=2), scale, rms, s_last, seen, np.nonzero(fit_ok)[0])
+
+
+def _element_ends(
+    band: _Band, fits: _FaceFits, root: float, ice_y_px: float | None
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """Step 6: the ice line (band rows), which elements are lifted and their end rows."""
+    el = fits.fitted
+    r_a = np.floor(root + fits.s_last[el] * fits.scale[el]).astype(np.int64) - 1
+    ends = _ends_along_centre(band.n, fits.centre[el], fits.scale[el], r_a, root)
+    if ice_y_px is not None:
+        ice = float(ice_y_px) - band.top
+    elif np.isfinite(ends).any():
+        fe = ends[np.isfinite(ends)]
+        ice = float(np.median(fe[fe > fe.max() - 1.0]))
+    else:
+        ice = math.nan
+    lifted = np.isfinite(ends) & (ends < ice - _LIFT_PX) if math.isfinite(ice) else (
+        np.isfinite(ends))
+    return ice, lifted, np.where(lifted, ends, ice)
+
+
+def _chords(
+    fits: _FaceFits, root: float, y_end: np.ndarray, lifted: np.ndarray, height_px: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Step 7: chord ends ``x0`` (root), ``x1`` (end), angle (deg) and tip deflection (px)."""
+    el = fits.fitted
+    centre, scale = fits.centre[el], fits.scale[el]
+    t_end = y_end - root
+    x0 = centre[:, 0]
+    x1 = _cubic(centre, t_end / scale)
+    angle = np.degrees(np.arctan2(x1 - x0, t_end))
+    if math.isfinite(height_px) and el.size:
+        t_tip = np.maximum(_tip_depths(centre, scale, height_px), t_end)
+        tip = np.where(lifted, x1 - x0, _cubic(centre, t_tip / scale) - x0)
+    else:
+        tip = np.where(lifted, x1 - x0, np.nan)
+    return x0, x1, angle, tip
+
+
+def _element_edges(
+    band: _Band, geo: _SideGeometry, fits: _FaceFits, root: float, y_end: np.ndarray,
+    x0: np.ndarray, x1: np.ndarray, fine: np.ndarray,
+) -> tuple[ElementEdges, ...]:
+    """Fitted faces and chords of the measured elements in image pixels (for overlays)."""
+    el, top, c0 = fits.fitted, band.top, band.c0
+    sl = fits.s_last[el][:, None] * np.linspace(0.0, 1.0, 16)[None, :]
+    yl = sl * fits.scale[el][:, None] + root + top
+    coef = fits.coef
+    xf = np.stack([_cubic(coef[el, None, :, 0], sl), _cubic(coef[el, None, :, 1], sl)]) + c0
+    cx = np.column_stack([x0, x1]) + c0
+    if geo.flip:
+        xf, cx = (band.w - 1) - xf, (band.w - 1) - cx
+    faces = np.stack([xf, np.broadcast_to(yl, xf.shape)], axis=-1)  # (2, E, 16, 2)
+    chords = np.stack([cx, np.column_stack([np.full(el.size, root + top), y_end + top])], -1)
+    return tuple(
+        ElementEdges(int(el[j]), faces[0, j], faces[1, j], chords[j])
+        for j in np.nonzero(fine)[0].tolist()
+    )
+
+
 def side_frame_features(
     d: np.ndarray,
     layout: SideLayoutLike,
@@ -714,7 +1015,7 @@ def side_frame_features(
     (lies behind its root, against the sliding direction); lengths in mm of the image
     plane; ``root_x_mm``, ``tip_x_mm`` (the chord's lower end) and ``block_front_x_mm``
     (the leading face of the block base) from the left image edge. Method and limits:
-    module docstring.
+    module docstring (its numbered steps are the private functions called here).
 
     Examples
     --------
@@ -732,225 +1033,49 @@ def side_frame_features(
     >>> round(f.frame["deflection_angle_deg"], 1), f.frame["n_elements_in_view"]
     (10.0, 1)
     """
-    arr = _check_image("d", d).astype(np.float32, copy=False)
-    px = float(layout.mm_per_px)
-    if not (math.isfinite(px) and px > 0):
-        raise ValueError(f"layout.mm_per_px must be a number > 0, got {layout.mm_per_px!r}")
-    direction = layout.sliding_direction
-    if direction not in ("left", "right"):
-        raise ValueError(
-            f"layout.sliding_direction must be 'left' or 'right', got {direction!r}"
-        )
-    lengths = layout.element_lengths_mm
-    n_el = len(lengths) if lengths is not None else None
-    sipe_mm = float(getattr(layout, "sipe_width_mm", 0.0) or 0.0)
-    h_mm = getattr(layout, "height_mm", None)
-    height_px = float(h_mm) / px if h_mm else math.nan
-    ok = np.isfinite(arr)
-    if valid is not None:
-        valid = np.asarray(valid, dtype=bool)
-        if valid.shape != arr.shape:
-            raise ValueError(f"valid has shape {valid.shape}, expected {arr.shape} as d")
-        ok &= valid
-    if not ok.all():
-        arr = np.where(ok, arr, np.float32(0.0))
-    flip = direction == "right"
-    if flip:  # work with the leading end on the left: x grows towards the trailing side
-        arr, ok = arr[:, ::-1], ok[:, ::-1]
-    h, w = arr.shape
-
-    def to_mm(x: np.ndarray | float) -> np.ndarray | float:
-        """Band-window x (index coordinates) to image mm from the left edge."""
-        xi = x + c0
-        return ((w - 1 - xi if flip else xi) + 0.5) * px
-
-    # 1. presence and rubber level
-    sub = arr[::3, ::3]
-    hi = sub[sub > min_darkness]
-    if hi.size < 8:
+    geo = _side_geometry(layout)
+    arr, ok = _working_image(d, valid, geo.flip)
+    band = _rubber_band(arr, ok, geo, min_darkness)
+    if band is None:
         return _empty()
-    p95 = float(np.partition(hi, int(0.95 * (hi.size - 1)))[int(0.95 * (hi.size - 1))])
-    level = float(np.median(hi[hi > 0.8 * p95]))
-    # 2. the rubber band: underside of the carrier down to the ice
-    count = (arr > _RUBBER_ONLY * level).view(np.uint8).sum(axis=1, dtype=np.int32)
-    peak = int(np.argmax(count))
-    inband = count >= max(3, 0.2 * count[peak])
-    if not inband[peak]:
+    end = _block_end(band, geo)
+    if end is None:
         return _empty()
-    top, bot = peak, peak
-    while top > 0 and inband[top - 1]:
-        top -= 1
-    while bot < h - 1 and inband[bot + 1]:
-        bot += 1
-    nrow = bot + 1 - top
-    if nrow < max(16, 0.75 * height_px if math.isfinite(height_px) else 0):
-        return _empty()  # too low for base plus elements (e.g. only the carrier in view)
-    # the block's columns (and 3 px of background either side)
-    cols_in = np.nonzero(arr[top : bot + 1].max(axis=0) > 0.5 * level)[0]
-    c0, c1 = max(int(cols_in[0]) - 3, 0), min(int(cols_in[-1]) + 4, w)
-    n = arr[top : min(bot + 6, h), c0:c1] / np.float32(level)  # a few ice rows below
-    runs = _runs(n[:nrow], ok[top : bot + 1, c0:c1])
-    rr = runs.row
-    per_row = np.bincount(rr, minlength=nrow)
-    order = np.arange(rr.size) - np.searchsorted(rr, np.arange(nrow))[rr]
-    from_right = per_row[rr] - 1 - order
-
-    # the block base: leading and trailing faces
-    b0, b1 = _BASE_ROWS
-    base = (rr >= b0) & (rr < b1) & (per_row[rr] == 1)
-    if not base.any():
-        return _empty()
-    front_cut = bool(runs.cut_left[base].any())
-    back_cut = bool(runs.cut_right[base].any())
-    if front_cut and (back_cut or n_el is None):
-        return _empty()  # neither end in view: the elements cannot be indexed
-    end_x = float(np.median(runs.right[base] if front_cut else runs.left[base]))
-    listed = (
-        _listed_by_geometry(lengths, sipe_mm, px, end_x + c0, not front_cut, w)
-        if lengths is not None
-        else np.zeros(0, dtype=np.int64)
-    )
-
-    # 3./4. root row: sipe ground, else the kink of the outer faces
-    split = per_row >= 2
-    split[:b1] = False
-    cand = np.nonzero(split[:-2] & split[1:-1] & split[2:])[0]
-    single = n_el == 1 or (n_el is None and cand.size == 0)
-    if not single:
-        root = _sipe_root(n, runs, cand) if cand.size else math.nan
-    elif front_cut or back_cut:
-        root = math.nan  # the only element is partly outside the image
-    else:
-        inner = (rr >= b0) & (rr < nrow - 1) & (per_row[rr] == 1)
-        root = _hinge_root(
-            [(rr[inner].astype(float), runs.left[inner]),
-             (rr[inner].astype(float), runs.right[inner])],
-            float(b1),
-            nrow - 8.0,
-        )
+    front_cut, back_cut, end_x, listed = end
+    root = _root_row(band, geo, front_cut, back_cut)
     if not math.isfinite(root):
-        # no sipe ground between two elements inside the image (or a partial single
-        # element): the elements in view are listed without values
-        logger.debug("side view: root row not found, elements listed without values")
-        seen = np.unique((n_el - 1 - from_right) if front_cut else order)
-        if n_el is not None:
-            seen = seen[(seen >= 0) & (seen < n_el)]
-        return _empty(np.union1d(listed, seen) if n_el is not None else seen)
-
-    # element index of every run, counted from the block end in view
-    pos = from_right if front_cut else order
-    idx = n_el - 1 - from_right if front_cut else order
-    usable = (rr > root + 1.0) & (rr < nrow - 1) & (idx >= 0)
-    if n_el is not None:
-        usable &= idx < n_el
-        max_w = np.asarray(lengths, dtype=float) / px * 1.6 + 3.0
-        bad = np.zeros(rr.size, dtype=bool)
-        bad[usable] = (runs.right - runs.left)[usable] > max_w[idx[usable]]
-        if bad.any():
-            spoil = np.full(nrow, np.iinfo(np.int64).max)
-            np.minimum.at(spoil, rr[bad], pos[bad])
-            usable &= pos < spoil[rr]  # a merged run spoils its row from there on
-    # samples sorted by element, rows ascending within each element
-    sel = np.nonzero(usable)[0]
-    sel = sel[np.argsort(idx[sel], kind="stable")]
-    e_s = idx[sel]
-    n_idx = int(e_s[-1]) + 1 if e_s.size else 0
-    n_rows = np.bincount(e_s, minlength=n_idx)
-    seen = n_rows > 0
-    starts = np.concatenate([[0], np.cumsum(n_rows)[:-1]]).astype(np.int64)
-    n_cut = np.bincount(e_s, weights=(runs.cut_left | runs.cut_right)[sel], minlength=n_idx)
-    fit_ok = (n_rows >= 10) & (n_cut == 0)
-    t_s = rr[sel] - root
-    scale = np.where(seen, t_s[np.maximum(starts + n_rows - 1, 0)] if e_s.size else 1.0, 1.0)
-    scale = np.maximum(scale, 1.0)
-    s_s = t_s / scale[e_s]
-    xs = np.column_stack([runs.left[sel], runs.right[sel]])
-    # 5. cubic fits of both faces: upper part first, then down to where a face leaves it
-    upper = (s_s <= _UPPER_FRACTION).astype(float)
-    coef = _batched_cubic(e_s, s_s, xs, upper, n_idx)
-    res = xs - _cubic(np.moveaxis(coef[e_s], 2, 1), s_s[:, None])
-    ss_u = np.bincount(e_s, weights=upper * (res**2).sum(1), minlength=n_idx)
-    rms_u = np.sqrt(ss_u / np.maximum(2 * np.bincount(e_s, weights=upper, minlength=n_idx), 1))
-    tol = np.maximum(_MIN_TOL_PX, 4.0 * rms_u)
-    off = (np.abs(res) > tol[e_s, None]).any(1) & (upper == 0)
-    # keep each element's rows above its first row off the fit
-    cum_off = np.concatenate([[0], np.cumsum(off)])
-    keep = (cum_off[1:] - cum_off[starts[e_s]] == 0).astype(float)
-    coef = _batched_cubic(e_s, s_s, xs, keep, n_idx)
-    res = xs - _cubic(np.moveaxis(coef[e_s], 2, 1), s_s[:, None])
-    n_keep = np.bincount(e_s, weights=keep, minlength=n_idx)
-    rms = np.sqrt(
-        np.bincount(e_s, weights=keep * (res**2).sum(1), minlength=n_idx)
-        / np.maximum(2 * n_keep, 1)
-    )
-    last = np.clip(starts + n_keep.astype(np.int64) - 1, 0, max(e_s.size - 1, 0))
-    s_last = np.where(n_keep > 0, s_s[last] if e_s.size else 0.0, 0.0)
-    fit_ok &= n_keep >= 8
-    centre = coef.mean(axis=2)  # (E, 4) in s = t / scale
-    el = np.nonzero(fit_ok)[0]
-    # 6. end points along the centrelines, the ice line
-    r_a = np.floor(root + s_last[el] * scale[el]).astype(np.int64) - 1
-    ends = _ends_along_centre(n, centre[el], scale[el], r_a, root)
-    if ice_y_px is not None:
-        ice = float(ice_y_px) - top
-    elif np.isfinite(ends).any():
-        fe = ends[np.isfinite(ends)]
-        ice = float(np.median(fe[fe > fe.max() - 1.0]))
-    else:
-        ice = math.nan
-    lifted = np.isfinite(ends) & (ends < ice - _LIFT_PX) if math.isfinite(ice) else (
-        np.isfinite(ends))
-    y_end = np.where(lifted, ends, ice)
-    # 7. chord angle and tip deflection
-    t_end = y_end - root
-    x0 = centre[el, 0]
-    x1 = _cubic(centre[el], t_end / scale[el])
-    angle = np.degrees(np.arctan2(x1 - x0, t_end))
-    if math.isfinite(height_px) and el.size:
-        t_tip = np.maximum(_tip_depths(centre[el], scale[el], height_px), t_end)
-        tip = np.where(lifted, x1 - x0, _cubic(centre[el], t_tip / scale[el]) - x0)
-    else:
-        tip = np.where(lifted, x1 - x0, np.nan)
-
+        return _elements_without_root(band, geo, front_cut, listed)
+    idx, sel = _element_samples(band, geo, root, front_cut)
+    fits = _fit_faces(band, root, idx, sel)
+    ice, lifted, y_end = _element_ends(band, fits, root, ice_y_px)
+    x0, x1, angle, tip = _chords(fits, root, y_end, lifted, geo.height_px)
+    el = fits.fitted
     # the table: measured elements, then those seen or expected in view without a value
-    all_el = np.union1d(np.union1d(el, np.nonzero(seen)[0]), listed).astype(np.int64)
+    all_el = np.union1d(np.union1d(el, np.nonzero(fits.seen)[0]), listed).astype(np.int64)
     k = np.searchsorted(all_el, el)
     cols = {c: np.full(all_el.size, np.nan) for c in SIDE_ELEMENT_COLUMNS[1:]}
     cols["deflection_angle_deg"][k] = angle
-    cols["tip_deflection_mm"][k] = tip * px
-    cols["root_x_mm"][k] = to_mm(x0)
-    cols["tip_x_mm"][k] = to_mm(x1)
-    cols["edge_fit_rms_px"][k] = rms[el]
+    cols["tip_deflection_mm"][k] = tip * geo.px
+    cols["root_x_mm"][k] = band.to_mm(x0, geo)
+    cols["tip_x_mm"][k] = band.to_mm(x1, geo)
+    cols["edge_fit_rms_px"][k] = fits.rms[el]
     table = pd.DataFrame({"element": all_el, **cols})  # columns in SIDE_ELEMENT_COLUMNS order
-
     fine = np.isfinite(angle)
-    sl = s_last[el][:, None] * np.linspace(0.0, 1.0, 16)[None, :]
-    yl = sl * scale[el][:, None] + root + top
-    xf = np.stack([_cubic(coef[el, None, :, 0], sl), _cubic(coef[el, None, :, 1], sl)]) + c0
-    cx = np.column_stack([x0, x1]) + c0
-    if flip:
-        xf, cx = (w - 1) - xf, (w - 1) - cx
-    faces = np.stack([xf, np.broadcast_to(yl, xf.shape)], axis=-1)  # (2, E, 16, 2)
-    chords = np.stack([cx, np.column_stack([np.full(el.size, root + top), y_end + top])], -1)
-    edges = [
-        ElementEdges(int(el[j]), faces[0, j], faces[1, j], chords[j])
-        for j in np.nonzero(fine)[0].tolist()
-    ]
+    in_view = bool(all_el.size > 0)
     frame = {
-        "block_in_view": bool(all_el.size > 0),
-        "block_front_x_mm": float(to_mm(end_x)) if not front_cut else math.nan,
+        "block_in_view": in_view,
+        "block_front_x_mm": float(band.to_mm(end_x, geo)) if in_view and not front_cut
+        else math.nan,
         "n_elements_in_view": int(all_el.size),
         "deflection_angle_deg": float(angle[fine].mean()) if fine.any() else math.nan,
-        "tip_deflection_mm": float(np.nanmean(tip[fine]) * px)
+        "tip_deflection_mm": float(np.nanmean(tip[fine]) * geo.px)
         if np.isfinite(tip[fine]).any()
         else math.nan,
     }
-    if not frame["block_in_view"]:
-        frame["block_front_x_mm"] = math.nan
     return SideFeatures(
         frame,
         table,
-        tuple(edges),
-        root_y_px=root + top,
-        ice_y_px=ice + top if math.isfinite(ice) else math.nan,
+        _element_edges(band, geo, fits, root, y_end, x0, x1, fine),
+        root_y_px=root + band.top,
+        ice_y_px=ice + band.top if math.isfinite(ice) else math.nan,
     )
