@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+import cv2
 import numpy as np
 
 from tir_contact.flatfield import Reference, reference_from_frame
@@ -191,8 +192,6 @@ def _region_into(normaliser: Normaliser, frame: np.ndarray, rows: slice, cols: s
     OpenCV multiplies them by the float32 scale and adds the float32 offset in place, each
     rounded once as in numpy: no temporary, about half numpy's time on strided views.
     """
-    import cv2
-
     src = frame[rows, cols]
     if frame.dtype.kind not in "biuf" or src.ndim != 2 or 0 in src.shape:
         out[...] = normaliser.region(frame, rows, cols)

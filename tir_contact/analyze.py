@@ -37,8 +37,10 @@ from typing import Any
 
 import numpy as np
 
+from tir_common.progress import progress_bar
 from tir_contact._readers import FootageError
 from tir_contact.frame import FrameAnalyser, FrameResult, analyze_frame
+from tir_contact.io import open_footage
 from tir_contact.options import AnalysisOptions
 from tir_contact.outputs import (
     ELEMENT_COLUMNS,
@@ -137,10 +139,6 @@ def analyze_video(
     >>> round(float(result.frames.loc[4, "contact_area_mm2"]), 6)  # 5 x 10 px of 0.01 mm2
     0.5
     """
-    from tqdm.auto import tqdm
-
-    from tir_contact.io import open_footage
-
     options = options or AnalysisOptions()
     path, default_name = resolve_footage(path, strict=True)
     name = name or default_name
@@ -155,8 +153,8 @@ def analyze_video(
             if out is not None and options.overlay_video
             else None
         )
-        bar = tqdm(total=setup.n_frames, desc=name, unit="frame", leave=False,
-                   disable=progress is False, position=progress_position, dynamic_ncols=True)
+        bar = progress_bar(setup.n_frames, progress=progress, desc=name, unit="frame",
+                           leave=False, position=progress_position)
         try:
             for i, k, frame in _frames(reader, setup, skipped, None if bar.disable else bar):
                 result = analyser(k, frame)

@@ -114,6 +114,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
+import cv2
 import numpy as np
 import pandas as pd
 
@@ -402,8 +403,6 @@ def _column_mean(d: np.ndarray, r0: int, r1: int, c0: int, c1: int,
     `sums`, when it covers these rows and columns, spares the summation (the sums of the
     fast path, taken while the darkness was still in the cache).
     """
-    import cv2
-
     sub = d[r0:r1, c0:c1]
     if sub.dtype != np.float32:
         sub = sub.astype(np.float32)
@@ -696,8 +695,6 @@ def _valid_cumsum(valid: np.ndarray, r0: int, r1: int, flip: bool,
 
     With `cache` (one per video and mask), the last result is reused for the same rows.
     """
-    import cv2
-
     key = (valid.shape, r0, r1, flip)
     if cache is not None and cache.key == key:
         return cache.value

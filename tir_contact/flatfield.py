@@ -21,6 +21,7 @@ import logging
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from tir_contact._percentile import pixelwise_percentile
@@ -162,8 +163,6 @@ def reference_from_frame(
     -------
     Reference
     """
-    import cv2
-
     _check_contact_is(contact_is)
     if size_px < 3 or size_px % 2 == 0:
         raise ValueError(f"size_px must be odd and >= 3, got size_px={size_px!r}")

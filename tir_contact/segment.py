@@ -13,8 +13,10 @@ import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
+import cv2
 import numpy as np
 import pandas as pd
+from scipy import ndimage
 
 __all__ = [
     "FrameContact",
@@ -117,8 +119,6 @@ class FrameContact:
         input and drops no region; otherwise they are summed from :attr:`box_labels` on first
         access.
         """
-        import cv2
-
         if self.known_counts is not None:
             return self.known_counts
         n_rows, n_cols = self.shape
@@ -181,8 +181,6 @@ def region_arrays(
     >>> region_arrays(lab, 1)["area_px"].tolist()
     [6.0]
     """
-    from scipy import ndimage
-
     if n_regions == 0:
         return {c: np.zeros(0) for c in _REGION_COLUMNS}
     flat = labels.ravel()
@@ -308,8 +306,6 @@ def _box_and_counts(
     The counts come from the same two sums that find the box (OpenCV's row and column
     reductions are several times faster than ``any`` along an axis); None without a box.
     """
-    import cv2
-
     if raw.ndim != 2 or raw.size == 0:
         cols = raw.any(axis=0).nonzero()[0]
         if cols.size == 0:
@@ -339,8 +335,6 @@ def _may_hold_small(sub: np.ndarray, min_area_px: int) -> bool:
     cheaper than counting the pixels of each label, and on contact images it settles
     almost every frame; otherwise the labels are counted.
     """
-    import cv2
-
     if min_area_px <= 1:
         return False
     if min_area_px > 9:
@@ -402,8 +396,6 @@ def _label_box(
     counts: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> FrameContact:
     """:func:`label_contact` with the box (and optionally the line counts of `raw`) known."""
-    import cv2
-
     if box is None:
         return FrameContact(raw.shape, threshold, 0, darkness)
     sub = np.ascontiguousarray(raw[box]).view(np.uint8)
