@@ -21,7 +21,7 @@ from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.features import _fit_offset
-from tir_contact.flatfield import Reference
+from tir_contact.flatfield import Reference, darkness
 from tir_contact.segment import (
     _box_and_counts,
     _may_hold_small,
@@ -40,6 +40,21 @@ def test_pixelwise_percentile_is_numpys(n, q):
     # numpy interpolates in float64 here too: equal to rounding (1e-9 of a grey value)
     np.testing.assert_allclose(pixelwise_percentile(frames, q), expected, rtol=0, atol=1e-9)
     assert frames[0].dtype == np.uint16  # inputs untouched
+
+
+@pytest.mark.parametrize("contact_is", ["dark", "bright"])
+def test_normaliser_is_the_flat_field_darkness_with_nan_where_excluded(contact_is):
+    # one convention for excluded pixels: NaN, in flatfield.darkness and in the normaliser
+    rng = np.random.default_rng(3)
+    ref = rng.uniform(20.0, 250.0, (24, 31))
+    valid = rng.random(ref.shape) > 0.2
+    frame = rng.integers(0, 256, ref.shape, dtype=np.uint8)
+    reference = Reference(ref, valid, "test", 1)
+    fast = Normaliser(reference, contact_is)(frame)
+    plain = darkness(frame, reference, contact_is=contact_is)
+    assert np.array_equal(np.isnan(fast), ~valid) and np.array_equal(np.isnan(plain), ~valid)
+    # float32: 1 - I/I_ref against I * (-1/I_ref) + 1, a few ulp of values up to ~12
+    np.testing.assert_allclose(fast[valid], plain[valid], rtol=0, atol=1e-5)
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16])

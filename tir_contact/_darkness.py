@@ -1,7 +1,7 @@
 """Darkness of TIR frames against a fixed reference, and its fast path on raw grey values.
 
-:class:`Normaliser` computes the darkness ``D`` of a whole frame (float32, 0 at excluded
-pixels). Most of a frame is free surface, though, and only the contact's neighbourhood is
+:class:`Normaliser` computes the darkness ``D`` of a whole frame (float32, NaN at excluded
+pixels, as :func:`tir_contact.flatfield.darkness`). Most of a frame is free surface, though, and only the contact's neighbourhood is
 ever read. :class:`RawContactTest` therefore thresholds the *raw* frame against a
 per-pixel grey-value limit that is exactly equivalent to ``D >= threshold`` (found by
 evaluating the normaliser's own float32 arithmetic at the limit, so no pixel flips by
@@ -21,17 +21,18 @@ __all__ = ["BoxDarkness", "Normaliser", "RawContactTest"]
 
 
 class Normaliser:
-    """Darkness of a frame against a fixed reference, with invalid pixels at 0.
+    """Darkness of a frame against a fixed reference, NaN at excluded pixels.
 
     ``D = 1 - I / I_ref`` for dark contact, ``I / I_ref - 1`` for bright contact, in
-    float32 (one multiply and one add per pixel).
+    float32 (one multiply and one add per pixel; the scale is NaN at excluded pixels, so
+    they come out NaN at no extra cost): :func:`tir_contact.flatfield.darkness`, faster.
     """
 
     def __init__(self, reference: Reference, contact_is: str) -> None:
         self.reference = reference
         self.valid = reference.valid
         self.contact_is = contact_is
-        inv = np.where(reference.valid, 1.0 / np.maximum(reference.image, 1e-6), 0.0)
+        inv = np.where(reference.valid, 1.0 / np.maximum(reference.image, 1e-6), np.nan)
         sign = -1.0 if contact_is == "dark" else 1.0
         self.scale = (sign * inv).astype(np.float32)
         self.offset = (-sign * reference.valid).astype(np.float32)
