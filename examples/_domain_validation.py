@@ -10,7 +10,11 @@ ground truth. Per clip:
   1 mm2 of contact on average;
 * ``outside_lit_mm2`` (TIR): contact the pipeline counted outside the true lit zone
   (``lit_mask.png`` of the renderer: where the light exceeds half of its span), summed over
-  frames, and ``outside_lit_pct`` of the measured area;
+  frames, and ``outside_lit_pct`` of the measured area; ``beyond_rim_pct`` counts only the
+  contact more than two pixels outside it: where a static contact covers the rim, the
+  pipeline cannot see the half-light line and continues the light under the contact, and
+  the renderer and the pipeline each place a soft rim's half-light line on their own
+  samples;
 * ``length_err_mm`` (TIR block): median |error| of the element contact length, elements
   wholly in the image;
 * ``angle_err_deg`` (side view): median |error| of the element deflection angle.
@@ -35,19 +39,23 @@ OPTIONS = AnalysisOptions(overlay_frames=0, parquet=False, regions="never")
 MIN_SCORED_MM2 = 1.0
 
 
-def _outside_lit(clip: Path, setup_path: Path, truth_lit: np.ndarray) -> tuple[float, float]:
-    """Contact area (mm2, summed over frames) outside the true lit zone, and the total."""
+def _outside_lit(clip: Path, setup_path: Path,
+                 truth_lit: np.ndarray) -> tuple[float, float, float]:
+    """Contact area (mm2, summed over frames) outside the true lit zone, the part of it more
+    than two pixels outside, and the total."""
+    far = cv2.distanceTransform((~truth_lit).astype(np.uint8), cv2.DIST_L2, 5) > 2.5
     with open_footage(setup_path) as reader:
         setup = prepare_video(reader, setup_path, None, OPTIONS)
         analyse = FrameAnalyser(setup, OPTIONS)
-        outside = total = 0
+        outside = beyond = total = 0
         for i in range(len(reader)):
             r = analyse(int(setup.numbers[i]), reader.get_frame(i))
             mask = r.detail.mask
             outside += int(np.count_nonzero(mask & ~truth_lit))
+            beyond += int(np.count_nonzero(mask & far))
             total += int(np.count_nonzero(mask))
     px2 = setup.mm_per_px ** 2
-    return outside * px2, total * px2
+    return outside * px2, beyond * px2, total * px2
 
 
 def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
@@ -88,9 +96,10 @@ def _compare_tir(res, truth: pd.DataFrame, clip: Path) -> dict:
     if lit is not None:
         from tir_contact.analyze import resolve_footage
 
-        outside, total = _outside_lit(clip, resolve_footage(clip)[0], lit)
+        outside, beyond, total = _outside_lit(clip, resolve_footage(clip)[0], lit)
         out["outside_lit_mm2"] = outside
         out["outside_lit_pct"] = 100 * outside / total if total else 0.0
+        out["beyond_rim_pct"] = 100 * beyond / total if total else 0.0
     el_truth = truth[(truth.element >= 0) & truth.in_view & (truth.contact_length_mm > 0)]
     if len(el_truth) and len(res.elements):
         merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
@@ -111,8 +120,8 @@ def _compare_side(res, truth: pd.DataFrame) -> dict:
 
 def summarise(table: pd.DataFrame) -> pd.DataFrame:
     """Median and 95th percentile of each error per case class, and over all clips."""
-    metrics = [m for m in ("area_err_pct", "outside_lit_pct", "length_err_mm",
-                           "angle_err_deg") if m in table]
+    metrics = [m for m in ("area_err_pct", "outside_lit_pct", "beyond_rim_pct",
+                           "length_err_mm", "angle_err_deg") if m in table]
     rows = []
     for case, group in [*table.groupby("case", sort=True), ("all", table)]:
         row = {"case": case, "clips": len(group)}
