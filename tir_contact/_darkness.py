@@ -1,11 +1,12 @@
 """Darkness of TIR frames against a fixed reference, and its fast path on raw grey values.
 
 :class:`Normaliser` computes the darkness ``D`` of a whole frame (float32, NaN at excluded
-pixels, as :func:`tir_contact.flatfield.darkness`). Most of a frame is free surface, though, and only the contact's neighbourhood is
-ever read. :class:`RawContactTest` therefore thresholds the *raw* frame against a
-per-pixel grey-value limit that is exactly equivalent to ``D >= threshold`` (found by
-evaluating the normaliser's own float32 arithmetic at the limit, so no pixel flips by
-rounding), and :class:`BoxDarkness` computes ``D`` only inside the contact's box.
+pixels, as :func:`tir_contact.flatfield.darkness`). Most of a frame is free surface, though,
+and only the contact's neighbourhood is ever read. :class:`RawContactTest` therefore
+thresholds the *raw* frame against a per-pixel grey-value limit that is exactly equivalent
+to ``D >= threshold`` (found by evaluating the normaliser's own float32 arithmetic at the
+limit, so no pixel flips by rounding), and :class:`BoxDarkness` computes ``D`` only inside
+the contact's box.
 """
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.features import BlockLayout
 from tir_contact.flatfield import Reference, reference_from_frames
 from tir_contact.illumination import lit_zone_from_file
-from tir_contact.meta import META_FILENAME, clip_footage, read_meta_json
+from tir_contact.meta import META_FILENAME, clip_footage, find_meta, load_meta, read_meta_json
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
 from tir_contact.side import ice_line_tilt_deg, ice_line_y_px, level_image
@@ -90,7 +90,6 @@ def resolve_footage(path: str | os.PathLike[str], *, strict: bool = False) -> tu
 
 def footage_fingerprint(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Sizes and modification times of the footage and its metadata (for ``--resume``)."""
-    from tir_contact.meta import find_meta
 
     p = Path(path)
     files = sorted(q for q in p.iterdir() if q.is_file()) if p.is_dir() else [p]
@@ -250,7 +249,6 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     FootageError
         No frames, no readable sampled frame, or bad metadata.
     """
-    from tir_contact.meta import load_meta
 
     meta = load_meta(path, overrides, frame_rate=reader.frame_rate)
     n = len(reader)

@@ -41,8 +41,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference
-from tir_contact.illumination import LitZone, _fill_holes, shrink
+from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
 
 __all__ = [
     "CAMERA_MODES",
@@ -391,7 +392,6 @@ class TirReference:
 
 def _median(frames: list[np.ndarray]) -> np.ndarray:
     """Pixel-wise median of the frames, float32 (a sorting network: 20x numpy's median)."""
-    from tir_contact._percentile import pixelwise_percentile
 
     if len(frames) == 1:
         return np.asarray(frames[0], np.float32)
@@ -475,8 +475,6 @@ def tir_reference(
     -------
     TirReference
     """
-    from tir_contact._percentile import pixelwise_percentile
-    from tir_contact.illumination import find_lit_zone, whole_frame
 
     if camera not in ("auto", *CAMERA_MODES):
         raise ValueError(f"camera must be 'auto', 'fixed' or 'follows', got {camera!r}")
