@@ -66,14 +66,13 @@ from friction_model.dynamics.element_step import (
     MODULUS_ALPHA,
     MODULUS_F0_HZ,
     TAU_REF_S,
-    _check_strength,
-    _element,
-    _geometry,
-    _step_response,
     arm_storage_ratio,
     element_natural_frequency_Hz,
+    linear_step_states,
     modulus_ratio,
     modulus_scaled_frequency_Hz,
+    sipe_block,
+    step_element,
 )
 from friction_model.dynamics.rigid import (
     REFERENCE_LOSS_FACTOR,
@@ -81,6 +80,7 @@ from friction_model.dynamics.rigid import (
 )
 from friction_model.geometry import REFERENCE_SAMPLES
 from synthetic.rig import make_raw_run, write_run_csv
+from tir_common.atomic import json_safe
 from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = [
@@ -204,7 +204,7 @@ class EffectSpec:
                 f"{', '.join(EFFECT_NAMES)}"
             )
         clean = {
-            name: _check_strength(name, self.strengths[name])
+            name: check_nonnegative(name, self.strengths[name])
             for name in EFFECT_NAMES
             if name in self.strengths
         }
@@ -365,7 +365,7 @@ def _model_mu(conditions: pd.DataFrame, params: DryWetParameters) -> np.ndarray:
     """mu of the dry/wet model for a table with condition columns including n_sipes."""
     mu = np.empty(len(conditions))
     for n_sipes, rows in conditions.groupby("n_sipes", sort=True):
-        table = friction_table(_geometry(int(n_sipes)), rows.drop(columns="n_sipes"), params)
+        table = friction_table(sipe_block(int(n_sipes)), rows.drop(columns="n_sipes"), params)
         mu[conditions.index.get_indexer(rows.index)] = table["mu"].to_numpy(float)
     return mu
 
@@ -552,7 +552,7 @@ def make_transient_table(
     duration_s = check_positive("duration_s", duration_s)
     gen = np.random.default_rng(rng)
 
-    geometry = _geometry(n_sipes)
+    geometry = sipe_block(n_sipes)
     conditions = pd.DataFrame(
         {
             "velocity_mps": [float(v1_mps), float(v2_mps)],
@@ -563,14 +563,16 @@ def make_transient_table(
         }
     )
     mu1, mu2 = friction_table(geometry, conditions, _params(spec, params))["mu"].to_numpy(float)
-    el = _element(geometry, float(pressure_bar), spec.modulus_strength)
+    el = step_element(
+        geometry=geometry, pressure_bar=float(pressure_bar), modulus_strength=spec.modulus_strength
+    )
 
     moment = el.normal_force_N * el.lever_m
     c_eff = el.stiffness_Nm_rad
     a, b = el.system(tau)
     n = round((t_step_s + duration_s) * fs) + 1
     t = np.arange(n) / fs
-    states = _step_response(a, b, mu1, mu2, t, float(t_step_s), 1.0 / fs)
+    states = linear_step_states(a, b, mu1, mu2, t, float(t_step_s), 1.0 / fs)
     angle_true = np.degrees(states[:, 0])
     angle_before = math.degrees(moment * mu1 / c_eff)
     angle = angle_true + noise * abs(angle_before) * gen.standard_normal(n)
@@ -749,7 +751,7 @@ def make_raw_runs(
     runs: list[pd.DataFrame] = []
     run_numbers: dict[tuple[float, int], int] = {}
     for k, (v, _rep, s) in enumerate(order):
-        geometry = _geometry(s)
+        geometry = sipe_block(s)
         specimen = _specimen_name(s)
         run_no = run_numbers[(v, s)] = run_numbers.get((v, s), 0) + 1
         table = mu_tables[k] * factors[k]
@@ -864,14 +866,6 @@ def write_raw_runs(
     ]
 
 
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.generic | np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, os.PathLike):
-        return os.fspath(obj)
-    raise TypeError(f"cannot write {type(obj).__name__} to the truth file")
-
-
 def truth_path(out: str | os.PathLike[str]) -> Path:
     """The truth file beside an output: ``<out>.truth.json`` (a folder ``runs/`` gives
     ``runs.truth.json`` next to it).
@@ -889,7 +883,7 @@ def write_truth(out: str | os.PathLike[str], truth: Mapping[str, Any]) -> Path:
     """Write the truth of an output to :func:`truth_path` ``(out)`` as sorted, indented JSON."""
     path = truth_path(out)
     path.parent.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(truth, indent=2, sort_keys=True, default=_json_default)
+    text = json.dumps(json_safe(truth), indent=2, sort_keys=True)
     path.write_text(text + "\n", encoding="utf-8")
     return path
 

@@ -37,13 +37,9 @@ from friction_model.discrepancy._problem import (
 from friction_model.discrepancy._problem import (
     candidates as registered_candidates,
 )
-from friction_model.discrepancy._scoring import (
-    aicc,
-    bic,
-    block_bootstrap_weights,
-    group_folds,
-)
+from friction_model.discrepancy._scoring import block_bootstrap_weights, group_folds
 from friction_model.discrepancy._where import residual_spectrum, where_analysis
+from friction_model.model_selection import aicc_known_sigma, bic_known_sigma
 
 __all__ = [
     "AICC_MARGIN",
@@ -297,7 +293,10 @@ def _decide(
     n = len(problem.y)
     y = np.asarray(problem.y, float)
     models = [current, *fits, *trends]
-    crit = {m.name: (aicc(m.chi2_cv, m.k, n), bic(m.chi2_cv, m.k, n)) for m in models}
+    crit = {
+        m.name: (aicc_known_sigma(m.chi2_cv, m.k, n), bic_known_sigma(m.chi2_cv, m.k, n))
+        for m in models
+    }
     base_aicc, base_bic = crit[current.name]
     # bootstrap: the model with the lowest in-sample BIC of each resample wins it
     boot_bic = np.column_stack([m.boot_chi2 + m.k * math.log(n) for m in models])
