@@ -249,4 +249,3 @@ class Sensor:
         sd += self.read_noise_dn * self.read_noise_dn
         np.sqrt(sd, out=sd)
         return sd
-

@@ -331,17 +331,28 @@ class CameraSettings:
         put("fps", check_number("fps", self.fps, low=0.0, high=1e7, low_open=True, unit="frames/s"))
         put(
             "exposure_s",
-            check_number("exposure_s", self.exposure_s, low=0.0, high=1.0 / self.fps, unit="s (<= 1/fps)"),
+            check_number(
+                "exposure_s", self.exposure_s, low=0.0, high=1.0 / self.fps, unit="s (<= 1/fps)"
+            ),
         )
-        put("mm_per_px", check_number("mm_per_px", self.mm_per_px, low=0.0, high=10.0, low_open=True))
+        put(
+            "mm_per_px",
+            check_number("mm_per_px", self.mm_per_px, low=0.0, high=10.0, low_open=True),
+        )
         put("width_px", _integer("width_px", self.width_px, 16, 16384))
         put("height_px", _integer("height_px", self.height_px, 16, 16384))
         put("bit_depth", _choice("bit_depth", self.bit_depth, (8, 12, 16)))
         put("gain", check_number("gain", self.gain, low=0.0, high=100.0, low_open=True))
         if self.read_noise_dn is not None:
-            put("read_noise_dn", check_number("read_noise_dn", self.read_noise_dn, low=0.0, high=1e6))
+            put(
+                "read_noise_dn",
+                check_number("read_noise_dn", self.read_noise_dn, low=0.0, high=1e6),
+            )
         put("full_well_e", check_number("full_well_e", self.full_well_e, low=100.0, high=1e7))
-        put("white_level", check_number("white_level", self.white_level, low=0.0, high=1.0, low_open=True))
+        put(
+            "white_level",
+            check_number("white_level", self.white_level, low=0.0, high=1.0, low_open=True),
+        )
         put("shot_noise", _flag("shot_noise", self.shot_noise))
         put("rotation_deg", check_number("rotation_deg", self.rotation_deg, low=-45.0, high=45.0))
         g = check_number("illumination_gradient", self.illumination_gradient, low=0.0, high=1.0)
@@ -366,7 +377,10 @@ class CameraSettings:
         """Validate the lit zone and JPEG fields."""
         put("lit_shape", _choice("lit_shape", self.lit_shape, LIT_SHAPES))
         put("lit_fraction", check_number("lit_fraction", self.lit_fraction, low=0.2, high=1.0))
-        put("lit_rim_mm", check_number("lit_rim_mm", self.lit_rim_mm, low=0.0, high=100.0, unit="mm"))
+        put(
+            "lit_rim_mm",
+            check_number("lit_rim_mm", self.lit_rim_mm, low=0.0, high=100.0, unit="mm"),
+        )
         centre = self.lit_center_mm
         if not isinstance(centre, (tuple, list)) or len(centre) != 2:
             raise TypeError(
@@ -374,7 +388,10 @@ class CameraSettings:
             )
         put(
             "lit_center_mm",
-            (check_number("lit_center_mm[0]", centre[0]), check_number("lit_center_mm[1]", centre[1])),
+            (
+                check_number("lit_center_mm[0]", centre[0]),
+                check_number("lit_center_mm[1]", centre[1]),
+            ),
         )
         out = check_number("outside_level", self.outside_level, low=0.0, high=1.0)
         if out >= 1.0:
@@ -573,12 +590,16 @@ class FootageSpec:
         put("view", _choice("view", self.view, ("tir", "side")))
         put(
             "velocity_mps",
-            check_number("velocity_mps", self.velocity_mps, low=0.0, high=30.0, low_open=True, unit="m/s"),
+            check_number(
+                "velocity_mps", self.velocity_mps, low=0.0, high=30.0, low_open=True, unit="m/s"
+            ),
         )
         put("n_frames", _integer("n_frames", self.n_frames, 1, 10_000_000))
         put(
             "pressure_bar",
-            check_number("pressure_bar", self.pressure_bar, low=0.0, high=10.0, low_open=True, unit="bar"),
+            check_number(
+                "pressure_bar", self.pressure_bar, low=0.0, high=10.0, low_open=True, unit="bar"
+            ),
         )
         put("temperature_C", check_number("temperature_C", self.temperature_C, low=-60.0, high=0.0))
         put("humidity_pct", check_number("humidity_pct", self.humidity_pct, low=0.0, high=100.0))
@@ -594,7 +615,10 @@ class FootageSpec:
         put("noise", _flag("noise", self.noise))
         put("follow_camera", _flag("follow_camera", self.follow_camera))
         put("dynamics", _choice("dynamics", self.dynamics, ("simulated", "steady")))
-        put("settle_s", check_number("settle_s", self.settle_s, low=0.0, high=1.0, low_open=True, unit="s"))
+        put(
+            "settle_s",
+            check_number("settle_s", self.settle_s, low=0.0, high=1.0, low_open=True, unit="s"),
+        )
         put("friction", _choice("friction", self.friction, ("exponential", "drywet")))
         put("loss_factor", check_number("loss_factor", self.loss_factor, low=0.0, high=2.0))
         if self.center_time_s is not None:
@@ -603,13 +627,20 @@ class FootageSpec:
         put("contrast", check_number("contrast", self.contrast, low=0.0, high=1.0, low_open=True))
         put(
             "contrast_max",
-            check_number("contrast_max", self.contrast_max, low=self.contrast, high=1.0, unit="(>= contrast)"),
+            check_number(
+                "contrast_max", self.contrast_max, low=self.contrast, high=1.0, unit="(>= contrast)"
+            ),
         )
         put(
             "pressure_ref_MPa",
-            check_number("pressure_ref_MPa", self.pressure_ref_MPa, low=0.0, high=1e4, low_open=True),
+            check_number(
+                "pressure_ref_MPa", self.pressure_ref_MPa, low=0.0, high=1e4, low_open=True
+            ),
         )
-        put("edge_band_mm", check_number("edge_band_mm", self.edge_band_mm, low=0.0, high=5.0, unit="mm"))
+        put(
+            "edge_band_mm",
+            check_number("edge_band_mm", self.edge_band_mm, low=0.0, high=5.0, unit="mm"),
+        )
         self._check_step(put)
         self._check_real_footage(put)
 
@@ -623,11 +654,15 @@ class FootageSpec:
         )
         put(
             "point_radius_mm",
-            check_number("point_radius_mm", self.point_radius_mm, low=0.0, high=100.0, low_open=True),
+            check_number(
+                "point_radius_mm", self.point_radius_mm, low=0.0, high=100.0, low_open=True
+            ),
         )
         put(
             "patch_correlation_mm",
-            check_number("patch_correlation_mm", self.patch_correlation_mm, low=0.0, high=10.0, low_open=True),
+            check_number(
+                "patch_correlation_mm", self.patch_correlation_mm, low=0.0, high=10.0, low_open=True
+            ),
         )
         radii = self.coin_radii_mm
         if not isinstance(radii, (tuple, list)) or len(radii) != 2:
@@ -698,7 +733,9 @@ class FootageSpec:
         """Validate the velocity step and the friction relaxation (Eq. 5.12) fields."""
         put(
             "friction_relaxation_s",
-            check_number("friction_relaxation_s", self.friction_relaxation_s, low=0.0, high=1.0, unit="s"),
+            check_number(
+                "friction_relaxation_s", self.friction_relaxation_s, low=0.0, high=1.0, unit="s"
+            ),
         )
         if self.velocity_step_to_mps is None:
             if self.step_time_s is not None:
@@ -709,7 +746,14 @@ class FootageSpec:
             return
         put(
             "velocity_step_to_mps",
-            check_number("velocity_step_to_mps", self.velocity_step_to_mps, low=0.0, high=30.0, low_open=True, unit="m/s"),
+            check_number(
+                "velocity_step_to_mps",
+                self.velocity_step_to_mps,
+                low=0.0,
+                high=30.0,
+                low_open=True,
+                unit="m/s",
+            ),
         )
         if self.step_time_s is None:
             raise ValueError(
@@ -1784,9 +1828,7 @@ def render_footage(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     sink: FrameSink = open_sink(out, fmt, spec)
-    bar = progress_bar(
-        spec.n_frames, progress=progress, unit="frame", desc="footage", leave=False
-    )
+    bar = progress_bar(spec.n_frames, progress=progress, unit="frame", desc="footage", leave=False)
     truth_path = out / "ground_truth.csv"
     columns = spec.truth_columns
     try:

@@ -12,7 +12,6 @@ from numpy.testing import assert_allclose, assert_array_equal
 
 import synthetic.measurements as measurements
 from friction_model.discrepancy._problem import Candidate, Problem
-from friction_model.model_selection import aicc_known_sigma, bic_known_sigma
 from friction_model.discrepancy.stickslip import (
     THESIS_MEASURED_HZ,
     THESIS_SIGMA_HZ,
@@ -38,6 +37,7 @@ from friction_model.dynamics.element_step import (
     step_element,
     step_response,
 )
+from friction_model.model_selection import aicc_known_sigma, bic_known_sigma
 from synthetic.measurements import make_transient_table, write_table
 
 

@@ -75,11 +75,6 @@ from friction_model.discrepancy.stickslip import (
     stick_slip_case,
     thesis_stick_slip_problem,
 )
-from friction_model.model_selection import (
-    aicc_known_sigma,
-    bic_known_sigma,
-    reduced_chi_square,
-)
 from friction_model.discrepancy.transient import (
     TransientProblem,
     TransientRun,
@@ -87,6 +82,11 @@ from friction_model.discrepancy.transient import (
     read_transient_table,
     run_from_table,
     runs_from_elements,
+)
+from friction_model.model_selection import (
+    aicc_known_sigma,
+    bic_known_sigma,
+    reduced_chi_square,
 )
 
 __all__ = [

@@ -37,9 +37,9 @@ import pandas as pd
 import scipy.optimize
 from scipy.interpolate import PchipInterpolator
 
+from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.discrepancy._problem import get_candidate
 from friction_model.discrepancy.transient import MODULUS, RELAXATION
-from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.dynamics.element_step import (
     MODULUS_ALPHA,
     MODULUS_F0_HZ,

@@ -47,7 +47,6 @@ from friction_model.dynamics._common import (
     Profile,
     SimulationResult,
     batched_fd_jacobian,
-    check_in_range,
     finite_rhs,
     output_times,
     raise_if_failed,
@@ -62,9 +61,9 @@ from friction_model.dynamics.rigid import (
     REFERENCE_YOUNGS_MODULUS_PA,
     _as_profile,
     _FrictionSet,
-    _positive,
     _sgn,
 )
+from tir_common.validate import check_positive, check_range
 
 logger = logging.getLogger(__name__)
 
@@ -121,20 +120,20 @@ class EulerBernoulliParams:
     axial_load: bool = True
 
     def __post_init__(self) -> None:
-        d = _positive("length_m", self.length_m, "m")
-        ell = _positive("element_length_m", self.element_length_m, "m")
-        w = _positive("width_m", self.width_m, "m")
-        e_mod = _positive("youngs_modulus_Pa", self.youngs_modulus_Pa, "Pa")
-        _positive("density_kg_m3", self.density_kg_m3, "kg/m^3")
-        check_in_range("loss_factor", self.loss_factor, 0.0, 2.0)
-        check_in_range("free_length_m", self.free_length_m, 0.0, math.inf, unit="m")
+        d = check_positive("length_m", self.length_m)
+        ell = check_positive("element_length_m", self.element_length_m)
+        w = check_positive("width_m", self.width_m)
+        e_mod = check_positive("youngs_modulus_Pa", self.youngs_modulus_Pa)
+        check_positive("density_kg_m3", self.density_kg_m3)
+        check_range("loss_factor", self.loss_factor, 0.0, 2.0)
+        check_range("free_length_m", self.free_length_m, 0.0, math.inf, unit="m")
         setv = object.__setattr__
         if self.contact_stiffness_N_m is None:
             setv(self, "contact_stiffness_N_m", e_mod * ell * w / d)
-        _positive("contact_stiffness_N_m", self.contact_stiffness_N_m, "N/m")
+        check_positive("contact_stiffness_N_m", self.contact_stiffness_N_m)
         if self.contact_offset_m is None:
             setv(self, "contact_offset_m", ell / 2)
-        check_in_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
+        check_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
         setv(self, "axial_load", bool(self.axial_load))
 
     @property
@@ -326,16 +325,16 @@ def simulate_euler_bernoulli(
     if not isinstance(params, EulerBernoulliParams):
         raise TypeError(f"params must be EulerBernoulliParams, got {type(params).__name__}")
     k = _check_modes(n_modes)
-    t_end = check_in_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
+    t_end = check_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS} (implicit), got method={method!r}")
-    check_in_range("rtol", rtol, 1e-13, 1e-2)
-    check_in_range("atol", atol, 1e-18, 1e-2)
+    check_range("rtol", rtol, 1e-13, 1e-2)
+    check_range("atol", atol, 1e-18, 1e-2)
     if max_step_s is not None:
-        check_in_range("max_step_s", max_step_s, 1e-12, t_end, unit="s")
+        check_range("max_step_s", max_step_s, 1e-12, t_end, unit="s")
     out_step = t_end / 1000 if output_step_s is None else output_step_s
-    check_in_range("output_step_s", out_step, 1e-12, t_end, unit="s")
-    v_reg = check_in_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
+    check_range("output_step_s", out_step, 1e-12, t_end, unit="s")
+    v_reg = check_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
     if not isinstance(n_points, (int, np.integer)) or n_points < 2:
         raise ValueError(f"n_points must be an integer in [2, inf), got n_points={n_points!r}")
     _warn_eq_5_13(params, k)
@@ -405,7 +404,7 @@ def simulate_euler_bernoulli(
     if relaxed:
         f0 = forces(y_init[None, :k], y_init[None, k : 2 * k], 0.0)
         y_init[-1] = (
-            f0["mu"][0] if initial_mu is None else check_in_range("initial_mu", initial_mu, 0, 10)
+            f0["mu"][0] if initial_mu is None else check_range("initial_mu", initial_mu, 0, 10)
         )
     t_eval = output_times(t_end, out_step)
     opts: dict[str, Any] = {"rtol": rtol, "atol": atol, "jac": jac}

@@ -81,13 +81,13 @@ from friction_model.dynamics._common import (
     SimulationError,
     SimulationResult,
     batched_fd_jacobian,
-    check_in_range,
     finite_rhs,
     output_times,
     raise_if_failed,
     surface_profile,
 )
 from friction_model.geometry import reference_block
+from tir_common.validate import check_nonnegative, check_number, check_positive, check_range
 
 logger = logging.getLogger(__name__)
 
@@ -128,17 +128,6 @@ REFERENCE_LOSS_FACTOR = REFERENCE_COMPOUND.loss_factor
 
 
 # -- parameter helpers ----------------------------------------------------------------------
-def _positive(name: str, value: float, unit: str) -> float:
-    value = float(value)
-    if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must lie in (0, inf) {unit}, got {name}={value!r}")
-    return value
-
-
-def _nonnegative(name: str, value: float, unit: str) -> float:
-    return check_in_range(name, value, 0.0, math.inf, unit=unit)
-
-
 def _cantilever_springs(
     height: float, n_bars: int, modulus: float, length: float, width: float
 ) -> np.ndarray:
@@ -189,9 +178,9 @@ def _per_element(name: str, value: Any, n: int, unit: str, *, positive: bool) ->
     arr = np.atleast_1d(np.asarray(value, dtype=float))
     if arr.shape not in ((1,), (n,)):
         raise ValueError(f"{name} must be a scalar or have {n} entries, got shape {arr.shape}")
-    check = _positive if positive else _nonnegative
     for i, v in enumerate(arr):
-        check(name if arr.size == 1 else f"{name}[{i}]", v, unit)
+        label = name if arr.size == 1 else f"{name}[{i}]"
+        check_number(label, v, low=0.0, low_open=positive, unit=unit)
     return np.broadcast_to(arr, (n,)).copy()
 
 
@@ -205,9 +194,8 @@ def _per_bar(name: str, value: Any, n: int, nb: int, unit: str, *, positive: boo
             f"{name} must be a scalar, ({nb},) per bar or ({n}, {nb}) per element and bar, "
             f"got shape {arr.shape}"
         ) from None
-    check = _positive if positive else _nonnegative
     for idx, v in np.ndenumerate(out):
-        check(f"{name}{list(idx)}", v, unit)
+        check_number(f"{name}{list(idx)}", v, low=0.0, low_open=positive, unit=unit)
     return out
 
 
@@ -265,31 +253,31 @@ class SdofParams:
     gravity_mps2: float = _STANDARD_GRAVITY
 
     def __post_init__(self) -> None:
-        d = _positive("length_m", self.length_m, "m")
-        ell = _positive("element_length_m", self.element_length_m, "m")
-        w = _positive("width_m", self.width_m, "m")
-        e_mod = _positive("youngs_modulus_Pa", self.youngs_modulus_Pa, "Pa")
-        rho = _positive("density_kg_m3", self.density_kg_m3, "kg/m^3")
-        eta = check_in_range("loss_factor", self.loss_factor, 0.0, 2.0)
-        _nonnegative("free_length_m", self.free_length_m, "m")
-        check_in_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
-        check_in_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
+        d = check_positive("length_m", self.length_m)
+        ell = check_positive("element_length_m", self.element_length_m)
+        w = check_positive("width_m", self.width_m)
+        e_mod = check_positive("youngs_modulus_Pa", self.youngs_modulus_Pa)
+        rho = check_positive("density_kg_m3", self.density_kg_m3)
+        eta = check_range("loss_factor", self.loss_factor, 0.0, 2.0)
+        check_nonnegative("free_length_m", self.free_length_m)
+        check_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
+        check_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
         setv = object.__setattr__
         if self.mass_kg is None:
             setv(self, "mass_kg", rho * ell * w * d)
-        m = _positive("mass_kg", self.mass_kg, "kg")
+        m = check_positive("mass_kg", self.mass_kg)
         if self.inertia_kgm2 is None:
             setv(self, "inertia_kgm2", m * d**2 / 3 + m * ell**2 / 12)
-        j = _positive("inertia_kgm2", self.inertia_kgm2, "kg m^2")
+        j = check_positive("inertia_kgm2", self.inertia_kgm2)
         if self.spring_constant_Nm_rad is None:
             setv(self, "spring_constant_Nm_rad", float(_cantilever_springs(d, 1, e_mod, ell, w)[0]))
-        c = _positive("spring_constant_Nm_rad", self.spring_constant_Nm_rad, "N m/rad")
+        c = check_positive("spring_constant_Nm_rad", self.spring_constant_Nm_rad)
         if self.damping_constant_Nms_rad is None:
             setv(self, "damping_constant_Nms_rad", eta * c / math.sqrt(c / j))
-        _nonnegative("damping_constant_Nms_rad", self.damping_constant_Nms_rad, "N m s/rad")
+        check_nonnegative("damping_constant_Nms_rad", self.damping_constant_Nms_rad)
         if self.contact_stiffness_N_m is None:
             setv(self, "contact_stiffness_N_m", e_mod * ell * w / d)
-        _positive("contact_stiffness_N_m", self.contact_stiffness_N_m, "N/m")
+        check_positive("contact_stiffness_N_m", self.contact_stiffness_N_m)
         for name in self.__dataclass_fields__:
             setv(self, name, float(getattr(self, name)))
 
@@ -392,13 +380,13 @@ class BlockParams:
         if isinstance(nb, bool) or not isinstance(nb, (int, np.integer)) or nb < 1:
             raise ValueError(f"n_bars must be an integer in [1, inf), got n_bars={nb!r}")
         n, nb = int(n), int(nb)
-        h = _positive("height_m", self.height_m, "m")
-        w = _positive("width_m", self.width_m, "m")
-        e_mod = _positive("youngs_modulus_Pa", self.youngs_modulus_Pa, "Pa")
-        rho = _positive("density_kg_m3", self.density_kg_m3, "kg/m^3")
-        eta = check_in_range("loss_factor", self.loss_factor, 0.0, 2.0)
-        _nonnegative("free_length_m", self.free_length_m, "m")
-        check_in_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
+        h = check_positive("height_m", self.height_m)
+        w = check_positive("width_m", self.width_m)
+        e_mod = check_positive("youngs_modulus_Pa", self.youngs_modulus_Pa)
+        rho = check_positive("density_kg_m3", self.density_kg_m3)
+        eta = check_range("loss_factor", self.loss_factor, 0.0, 2.0)
+        check_nonnegative("free_length_m", self.free_length_m)
+        check_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
         if self.contact_model not in ("edge", "face"):
             raise ValueError(
                 f"contact_model must be 'edge' or 'face', got contact_model={self.contact_model!r}"
@@ -406,7 +394,7 @@ class BlockParams:
         sipes = _per_element("sipe_width_m", self.sipe_width_m, max(n - 1, 1), "m", positive=False)
         sipes = sipes[: n - 1]
         if self.element_length_m is None:
-            block = _positive("block_length_m", self.block_length_m, "m")
+            block = check_positive("block_length_m", self.block_length_m)
             rubber = block - sipes.sum()
             if rubber <= 0:
                 raise ValueError(
@@ -461,7 +449,7 @@ class BlockParams:
         if self.contact_offset_m is None:
             offset = ell / 2
         else:
-            off = check_in_range(
+            off = check_range(
                 "contact_offset_m", self.contact_offset_m, 0.0, ell.min() / 2, unit="m"
             )
             offset = np.full(n, off)
@@ -586,17 +574,17 @@ def _check_options(
     v_reg_mps: float,
     max_angle_deg: float,
 ) -> tuple[float, float]:
-    t_end = check_in_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
+    t_end = check_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS} (implicit), got method={method!r}")
-    check_in_range("rtol", rtol, 1e-13, 1e-2)
-    check_in_range("atol", atol, 1e-16, 1e-2)
+    check_range("rtol", rtol, 1e-13, 1e-2)
+    check_range("atol", atol, 1e-16, 1e-2)
     if max_step_s is not None:
-        check_in_range("max_step_s", max_step_s, 1e-12, t_end, unit="s")
+        check_range("max_step_s", max_step_s, 1e-12, t_end, unit="s")
     out_step = t_end / 1000 if output_step_s is None else output_step_s
-    out_step = check_in_range("output_step_s", out_step, 1e-12, t_end, unit="s")
-    check_in_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
-    check_in_range("max_angle_deg", max_angle_deg, 1e-6, 90.0, unit="deg")
+    out_step = check_range("output_step_s", out_step, 1e-12, t_end, unit="s")
+    check_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
+    check_range("max_angle_deg", max_angle_deg, 1e-6, 90.0, unit="deg")
     return t_end, out_step
 
 
@@ -771,7 +759,7 @@ def _simulate(
             mu_ss = fr.steady(np.abs(f0["v_rel"]), f0["pressure"])
             mu0 = mu_ss[fr.index]
         else:
-            mu0 = np.full(fr.index.size, check_in_range("initial_mu", initial_mu, 0.0, 10.0))
+            mu0 = np.full(fr.index.size, check_range("initial_mu", initial_mu, 0.0, 10.0))
     else:
         mu0 = np.zeros(0)
     y_init = np.concatenate([phi0.ravel(), dphi0.ravel(), mu0])

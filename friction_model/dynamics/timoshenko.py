@@ -105,7 +105,6 @@ from friction_model.dynamics._common import (
     Profile,
     SimulationError,
     SimulationResult,
-    check_in_range,
     constant_preload,
     constant_velocity,
 )
@@ -115,6 +114,7 @@ from friction_model.dynamics._timoshenko_fdm import (
     assemble,
     tip_slope,
 )
+from tir_common.validate import check_number, check_range
 
 logger = logging.getLogger(__name__)
 
@@ -144,13 +144,6 @@ _PROBE_V = 1.0
 _SOLVERS = {"BDF": BDF, "Radau": Radau}
 
 
-def _real(name: str, value: Any) -> float:
-    """Float of a real number, TypeError naming the parameter otherwise."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}: {value!r}")
-    return float(value)
-
-
 def cowper_shear_coefficient(nu: float) -> float:
     """Cowper's shear coefficient of a rectangular cross-section (Eq. 5.19, corrected).
 
@@ -172,7 +165,7 @@ def cowper_shear_coefficient(nu: float) -> float:
     >>> cowper_shear_coefficient(0.5) == 6 / 7
     True
     """
-    nu = check_in_range("nu", _real("nu", nu), -1.0, 0.5)
+    nu = check_range("nu", nu, -1.0, 0.5)
     return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
 
 
@@ -271,26 +264,14 @@ class TimoshenkoParams:
         def put(name: str, value: Any) -> None:
             object.__setattr__(self, name, value)
 
-        put("E_Pa", check_in_range("E_Pa", _real("E_Pa", self.E_Pa), 1e3, 1e12, unit="Pa"))
+        put("E_Pa", check_range("E_Pa", self.E_Pa, 1e3, 1e12, unit="Pa"))
         put(
             "density_kg_m3",
-            check_in_range(
-                "density_kg_m3",
-                _real("density_kg_m3", self.density_kg_m3),
-                100.0,
-                3e4,
-                unit="kg/m^3",
-            ),
+            check_range("density_kg_m3", self.density_kg_m3, 100.0, 3e4, unit="kg/m^3"),
         )
         put(
             "kelvin_voigt_s",
-            check_in_range(
-                "kelvin_voigt_s",
-                _real("kelvin_voigt_s", self.kelvin_voigt_s),
-                0.0,
-                1.0,
-                unit="s",
-            ),
+            check_range("kelvin_voigt_s", self.kelvin_voigt_s, 0.0, 1.0, unit="s"),
         )
         if self.contact_stiffness_N_m is None:
             put(
@@ -302,23 +283,17 @@ class TimoshenkoParams:
             )
         put(
             "contact_stiffness_N_m",
-            check_in_range(
-                "contact_stiffness_N_m",
-                _real("contact_stiffness_N_m", self.contact_stiffness_N_m),
-                1.0,
-                1e12,
-                unit="N/m",
-            ),
+            check_range("contact_stiffness_N_m", self.contact_stiffness_N_m, 1.0, 1e12, unit="N/m"),
         )
         put(
             "length_m",
-            check_in_range("length_m", _real("length_m", self.length_m), 1e-5, 1.0, unit="m"),
+            check_range("length_m", self.length_m, 1e-5, 1.0, unit="m"),
         )
         put(
             "width_m",
-            check_in_range("width_m", _real("width_m", self.width_m), 1e-5, 10.0, unit="m"),
+            check_range("width_m", self.width_m, 1e-5, 10.0, unit="m"),
         )
-        d = check_in_range("height_m", _real("height_m", self.height_m), 1e-4, 1.0, unit="m")
+        d = check_range("height_m", self.height_m, 1e-4, 1.0, unit="m")
         if d < MIN_ASPECT_RATIO * self.length_m:
             raise ValueError(
                 f"height_m must be >= {MIN_ASPECT_RATIO} * length_m = "
@@ -327,7 +302,7 @@ class TimoshenkoParams:
             )
         put("height_m", d)
         if self.G_Pa is not None:
-            g = _real("G_Pa", self.G_Pa)
+            g = check_number("G_Pa", self.G_Pa)
             if not math.isfinite(g) or g <= 0:
                 raise ValueError(f"G_Pa must be a finite number > 0, got G_Pa={g!r}")
             nu = self.E_Pa / (2.0 * g) - 1.0
@@ -338,7 +313,7 @@ class TimoshenkoParams:
                 )
             put("G_Pa", g)
         if self.shear_coefficient is not None:
-            k = _real("shear_coefficient", self.shear_coefficient)
+            k = check_number("shear_coefficient", self.shear_coefficient)
             if not math.isfinite(k) or not 0.0 < k <= 1.0:
                 raise ValueError(
                     f"shear_coefficient must lie in (0, 1], got shear_coefficient={k!r}"
@@ -346,20 +321,12 @@ class TimoshenkoParams:
             put("shear_coefficient", k)
         put(
             "spring_length_m",
-            check_in_range(
-                "spring_length_m",
-                _real("spring_length_m", self.spring_length_m),
-                0.0,
-                1.0,
-                unit="m",
-            ),
+            check_range("spring_length_m", self.spring_length_m, 0.0, 1.0, unit="m"),
         )
-        put("e1", check_in_range("e1", _real("e1", self.e1), -1e3, 1e3))
+        put("e1", check_range("e1", self.e1, -1e3, 1e3))
         put(
             "e2_per_rad",
-            check_in_range(
-                "e2_per_rad", _real("e2_per_rad", self.e2_per_rad), 0.0, 1e4, unit="1/rad"
-            ),
+            check_range("e2_per_rad", self.e2_per_rad, 0.0, 1e4, unit="1/rad"),
         )
         half = 0.5 * self.length_m
         if (self.e3_m is None) != (self.e4_m is None):
@@ -367,14 +334,12 @@ class TimoshenkoParams:
                 f"e3_m and e4_m must be given together, got e3_m={self.e3_m!r}, e4_m={self.e4_m!r}"
             )
         if self.e3_m is not None:
-            put("e3_m", check_in_range("e3_m", _real("e3_m", self.e3_m), -half, half, unit="m"))
-            put("e4_m", check_in_range("e4_m", _real("e4_m", self.e4_m), -half, half, unit="m"))
+            put("e3_m", check_range("e3_m", self.e3_m, -half, half, unit="m"))
+            put("e4_m", check_range("e4_m", self.e4_m, -half, half, unit="m"))
         if self.lever_arm_m is not None:
             put(
                 "lever_arm_m",
-                check_in_range(
-                    "lever_arm_m", _real("lever_arm_m", self.lever_arm_m), -half, half, unit="m"
-                ),
+                check_range("lever_arm_m", self.lever_arm_m, -half, half, unit="m"),
             )
         elif self.e3_m is None and LEVER_ARM_MAX_FIG_5_12_M > half:
             raise ValueError(
@@ -393,12 +358,8 @@ class TimoshenkoParams:
                 )
         put(
             "lever_arm_smoothing_rad",
-            check_in_range(
-                "lever_arm_smoothing_rad",
-                _real("lever_arm_smoothing_rad", self.lever_arm_smoothing_rad),
-                1e-12,
-                0.1,
-                unit="rad",
+            check_range(
+                "lever_arm_smoothing_rad", self.lever_arm_smoothing_rad, 1e-12, 0.1, unit="rad"
             ),
         )
         if not isinstance(self.foreshortening, bool):
@@ -413,9 +374,9 @@ class TimoshenkoParams:
         if self.root_stiffness_Nm_per_rad is not None:
             put(
                 "root_stiffness_Nm_per_rad",
-                check_in_range(
+                check_range(
                     "root_stiffness_Nm_per_rad",
-                    _real("root_stiffness_Nm_per_rad", self.root_stiffness_Nm_per_rad),
+                    self.root_stiffness_Nm_per_rad,
                     1e-6,
                     1e9,
                     unit="N m/rad",
@@ -423,12 +384,8 @@ class TimoshenkoParams:
             )
         put(
             "friction_smoothing_mps",
-            check_in_range(
-                "friction_smoothing_mps",
-                _real("friction_smoothing_mps", self.friction_smoothing_mps),
-                1e-12,
-                1.0,
-                unit="m/s",
+            check_range(
+                "friction_smoothing_mps", self.friction_smoothing_mps, 1e-12, 1.0, unit="m/s"
             ),
         )
         if isinstance(self.n_nodes, bool) or not isinstance(self.n_nodes, numbers.Integral):
@@ -570,9 +527,7 @@ def preload_for_normal_force(params: TimoshenkoParams, normal_force_N: float) ->
     >>> round(preload_for_normal_force(p, 50.0) * 1e3, 6)
     5.95
     """
-    f = check_in_range(
-        "normal_force_N", _real("normal_force_N", normal_force_N), 0.0, 1e9, unit="N"
-    )
+    f = check_range("normal_force_N", normal_force_N, 0.0, 1e9, unit="N")
     return params.spring_length_m + params.height_m - f / params.contact_stiffness_N_m
 
 
@@ -595,8 +550,8 @@ def static_tip_deflection(
     >>> round(static_tip_deflection(p, 10.0) * 1e3, 4)
     0.5745
     """
-    P = _real("force_N", force_N)
-    M = _real("moment_Nm", moment_Nm)
+    P = check_number("force_N", force_N)
+    M = check_number("moment_Nm", moment_Nm)
     d = params.height_m
     out = P * d**3 / (3.0 * params.EI) + P * d / params.kGA + M * d**2 / (2.0 * params.EI)
     if params.root_stiffness_Nm_per_rad is not None:
@@ -648,9 +603,9 @@ def beam_column_static(
             "beam_column_static needs beam_column 'haringx' or 'engesser', "
             f"got {params.beam_column!r}"
         )
-    P = _real("force_N", force_N)
-    M = _real("moment_Nm", moment_Nm)
-    N = _real("axial_force_N", axial_force_N)
+    P = check_number("force_N", force_N)
+    M = check_number("moment_Nm", moment_Nm)
+    N = check_number("axial_force_N", axial_force_N)
     if not 0.0 < N < buckling_load(params):
         raise ValueError(
             f"axial_force_N must lie in (0, buckling load {buckling_load(params):g} N), got {N!r}"
@@ -771,9 +726,9 @@ def fdm_static_deflection(
     x_m, r_m, phi_rad : (n_nodes,) ndarray
         Node positions, deflection and rotation (root included).
     """
-    P = _real("force_N", force_N)
-    M = _real("moment_Nm", moment_Nm)
-    N = _real("axial_force_N", axial_force_N)
+    P = check_number("force_N", force_N)
+    M = check_number("moment_Nm", moment_Nm)
+    N = check_number("axial_force_N", axial_force_N)
     sysm = _system(params)
     f = np.zeros(sysm.n_u)
     f[sysm.tip_r] = P
@@ -974,7 +929,7 @@ def _as_profile(name: str, value: Profile | float, factory: Callable[[float], Pr
     if callable(value):
         out = value
     else:
-        factory_value = check_in_range(name, _real(name, value), -1e6, 1e6)
+        factory_value = check_range(name, value, -1e6, 1e6)
         out = factory(factory_value)
     v = out(0.0)
     if not math.isfinite(float(v)):
@@ -1042,7 +997,7 @@ class _TimoshenkoProblem:
         self.njev = 0
 
         y = np.zeros(self.dim)
-        f_init = _real("initial_tip_force_N", initial_tip_force_N)
+        f_init = check_number("initial_tip_force_N", initial_tip_force_N)
         if f_init != 0.0:
             f = np.zeros(self.n2)
             f[self.ir] = f_init
@@ -1051,7 +1006,7 @@ class _TimoshenkoProblem:
             if mu_initial is None:
                 n0 = self.normal_force(0.0, y[: self.n2])[0]
                 mu_initial = self.fr.scalar(self.v0(0.0) - y[self.n2 + self.ir], n0)
-            y[-1] = check_in_range("mu_initial", _real("mu_initial", mu_initial), -10.0, 10.0)
+            y[-1] = check_range("mu_initial", mu_initial, -10.0, 10.0)
         self.y_init = y
         self._build_pattern()
 
@@ -1350,24 +1305,20 @@ def simulate_timoshenko(
     """
     if not isinstance(params, TimoshenkoParams):
         raise TypeError(f"params must be a TimoshenkoParams, got {type(params).__name__}")
-    t_end = check_in_range("t_end_s", _real("t_end_s", t_end_s), 1e-9, 100.0, unit="s")
+    t_end = check_range("t_end_s", t_end_s, 1e-9, 100.0, unit="s")
     if isinstance(n_output, bool) or not isinstance(n_output, numbers.Integral):
         raise TypeError(f"n_output must be an integer, got {type(n_output).__name__}")
     if not 2 <= int(n_output) <= 1_000_000:
         raise ValueError(f"n_output must lie in [2, 1000000], got n_output={n_output!r}")
-    rtol = check_in_range("rtol", _real("rtol", rtol), 1e-10, 0.1)
-    atol = check_in_range("atol", _real("atol", atol), 1e-14, 0.01)
+    rtol = check_range("rtol", rtol, 1e-10, 0.1)
+    atol = check_range("atol", atol, 1e-14, 0.01)
     if method not in _SOLVERS:
         raise ValueError(f"method must be one of {sorted(_SOLVERS)}, got method={method!r}")
     max_step = np.inf
     if max_step_s is not None:
-        max_step = check_in_range(
-            "max_step_s", _real("max_step_s", max_step_s), 1e-12, t_end, unit="s"
-        )
+        max_step = check_range("max_step_s", max_step_s, 1e-12, t_end, unit="s")
     if temperature_C is not None:
-        temperature_C = check_in_range(
-            "temperature_C", _real("temperature_C", temperature_C), -273.15, 1e3, unit="degC"
-        )
+        temperature_C = check_range("temperature_C", temperature_C, -273.15, 1e3, unit="degC")
     v0 = _as_profile("velocity", velocity, constant_velocity)
     if (preload is None) == (normal_force is None):
         raise ValueError(
