@@ -79,7 +79,12 @@ import pandas as pd
 from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.contact.drywet_law import DryWetLaw
 from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
-from friction_model.dynamics import BlockParams, simulate_block_dynamics, velocity_step
+from friction_model.dynamics import (
+    BlockParams,
+    SolverOptions,
+    simulate_block_dynamics,
+    velocity_step,
+)
 from friction_model.dynamics.rigid import REFERENCE_YOUNGS_MODULUS_PA
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
 from synthetic._camera import (
@@ -169,7 +174,7 @@ _STEADY_FRACTION = 0.3
 #: self-excited stick-slip depends on the solver's step choice, and the ``steady`` average,
 #: whose window may end mid-cycle, moved by 8 % between scipy 1.10 and 1.17; at 1e-5 both
 #: agree with the converged value (rtol 1e-8) to 1e-4 relative, for 20 % more run time.
-_RTOL, _ATOL = 1e-5, 1e-8
+_SOLVER = SolverOptions(rtol=1e-5, atol=1e-8)
 #: Side view: image row of the ice surface line as a fraction of the image height.
 _SIDE_ICE_ROW = 0.75
 #: Fields of the velocity step and the friction relaxation and their defaults (left out of
@@ -944,8 +949,7 @@ def _simulate(spec: _ModelInput) -> _ModelStates:
         friction=law,
         t_end_s=t_end,
         output_step_s=step,
-        rtol=_RTOL,
-        atol=_ATOL,
+        solver=_SOLVER,
     )
     phi = np.asarray(res.fields["phi_rad"], dtype=np.float64)
     n = geom.n_elements
