@@ -1235,62 +1235,10 @@ class _Clip:
         level = np.float32(cam.white_level)
         self.lit = lit_zone(spec)
         self.ice_canvas: _IceCanvas | None = None
-        if spec.view == "tir" and spec.follow_camera:
-            self.ice_canvas = _IceCanvas(self, scene_rng)
-            self.camera_base = (level * illum * dust * self.lit.factor).astype(np.float32)
-            self.base = self.camera_base * self.ice_canvas.frame(0)
-            self.lateral = self.path.lateral_coverage()
-        elif spec.view == "tir":
-            ice = ice_transmission(
-                self.path,
-                rng=scene_rng,
-                n_bubbles=cam.n_bubbles,
-                n_scratches=cam.n_scratches,
-                groove_depth=cam.groove_depth,
-            )
-            if self.lit.shape == "full":
-                self.base = (level * illum * ice * dust).astype(np.float32)
-            else:
-                self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
-            self.lateral = self.path.lateral_coverage()
+        if spec.view == "tir":
+            self._init_tir_background(level, illum, dust, scene_rng)
         else:
-            self.base = (level * illum * dust).astype(np.float32)
-            dark = spec.contact_is == "dark"
-            # Levels (fractions of S): backlight 1.0 / 0.1, carbon-black rubber reflects
-            # ~8 % (0.85 front-lit), matte steel 0.4 / 0.5, ice slab 0.6 / 0.3. The rubber
-            # above the sipe ground is not given in the thesis: 2 mm, a usual tread base,
-            # glued to a 3 mm steel carrier that overhangs the block by 1 mm.
-            self.layout = SideLayout(
-                ice_y_mm=_SIDE_ICE_ROW * h_mm,
-                base_mm=2.0,
-                carrier_mm=3.0,
-                carrier_overhang_mm=1.0,
-                background=1.0 if dark else 0.1,
-                rubber=0.08 if dark else 0.85,
-                carrier=0.4 if dark else 0.5,
-                ice=0.6 if dark else 0.3,
-            )
-            # Bubbles of the ice slab over the whole stretch of track the camera can see:
-            # radius 0.05-0.3 mm as in the TIR view, 0.3-5 mm below the surface, brighter
-            # than the ice by 15-40 % (they scatter the backlight towards the camera).
-            v_max = max(spec.velocity_mps, spec.velocity_step_to_mps or 0.0)
-            travel = v_max * 1e3 * spec.duration_s
-            span = w_mm + 2.0 * travel
-            n_b = round(cam.n_bubbles * span / w_mm)
-            bubbles = np.column_stack(
-                [
-                    scene_rng.uniform(-travel, w_mm + travel, n_b),
-                    scene_rng.uniform(0.3, 5.0, n_b),
-                    scene_rng.uniform(0.05, 0.3, n_b),
-                    scene_rng.uniform(0.15, 0.4, n_b),
-                ]
-            )
-            self.bubbles = bubbles[np.argsort(bubbles[:, 0], kind="stable")]
-            self.static_ice = (
-                None
-                if spec.follow_camera
-                else ice_texture_frame(self.path, self.layout, bubbles=self.bubbles, offset_mm=0.0)
-            )
+            self._init_side_background(level, illum, dust, scene_rng)
         self.node_spacing_mm = cam.mm_per_px / 8.0
         self._cached: tuple[int, Any] | None = None
         self.patches: PatchTexture | None = None
@@ -1306,6 +1254,75 @@ class _Clip:
             full_well_e=cam.full_well_e,
             read_noise_dn=cam.read_noise,
             shot_noise=cam.shot_noise,
+        )
+
+    def _init_tir_background(
+        self, level: np.float32, illum: np.ndarray, dust: np.ndarray, scene_rng: np.random.Generator
+    ) -> None:
+        """Signal of the TIR view without the block: light, ice (or the moving ice canvas of
+        ``follow_camera``), dust and the lit zone."""
+        spec, cam = self.spec, self.spec.camera
+        if spec.follow_camera:
+            self.ice_canvas = _IceCanvas(self, scene_rng)
+            self.camera_base = (level * illum * dust * self.lit.factor).astype(np.float32)
+            self.base = self.camera_base * self.ice_canvas.frame(0)
+        else:
+            ice = ice_transmission(
+                self.path,
+                rng=scene_rng,
+                n_bubbles=cam.n_bubbles,
+                n_scratches=cam.n_scratches,
+                groove_depth=cam.groove_depth,
+            )
+            if self.lit.shape == "full":
+                self.base = (level * illum * ice * dust).astype(np.float32)
+            else:
+                self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
+        self.lateral = self.path.lateral_coverage()
+
+    def _init_side_background(
+        self, level: np.float32, illum: np.ndarray, dust: np.ndarray, scene_rng: np.random.Generator
+    ) -> None:
+        """Side view without the block: light and dust, the layout of its levels and the
+        bubbles of the ice slab."""
+        spec, cam = self.spec, self.spec.camera
+        w_mm, h_mm = cam.field_of_view_mm
+        self.base = (level * illum * dust).astype(np.float32)
+        dark = spec.contact_is == "dark"
+        # Levels (fractions of S): backlight 1.0 / 0.1, carbon-black rubber reflects
+        # ~8 % (0.85 front-lit), matte steel 0.4 / 0.5, ice slab 0.6 / 0.3. The rubber
+        # above the sipe ground is not given in the thesis: 2 mm, a usual tread base,
+        # glued to a 3 mm steel carrier that overhangs the block by 1 mm.
+        self.layout = SideLayout(
+            ice_y_mm=_SIDE_ICE_ROW * h_mm,
+            base_mm=2.0,
+            carrier_mm=3.0,
+            carrier_overhang_mm=1.0,
+            background=1.0 if dark else 0.1,
+            rubber=0.08 if dark else 0.85,
+            carrier=0.4 if dark else 0.5,
+            ice=0.6 if dark else 0.3,
+        )
+        # Bubbles of the ice slab over the whole stretch of track the camera can see:
+        # radius 0.05-0.3 mm as in the TIR view, 0.3-5 mm below the surface, brighter
+        # than the ice by 15-40 % (they scatter the backlight towards the camera).
+        v_max = max(spec.velocity_mps, spec.velocity_step_to_mps or 0.0)
+        travel = v_max * 1e3 * spec.duration_s
+        span = w_mm + 2.0 * travel
+        n_b = round(cam.n_bubbles * span / w_mm)
+        bubbles = np.column_stack(
+            [
+                scene_rng.uniform(-travel, w_mm + travel, n_b),
+                scene_rng.uniform(0.3, 5.0, n_b),
+                scene_rng.uniform(0.05, 0.3, n_b),
+                scene_rng.uniform(0.15, 0.4, n_b),
+            ]
+        )
+        self.bubbles = bubbles[np.argsort(bubbles[:, 0], kind="stable")]
+        self.static_ice = (
+            None
+            if spec.follow_camera
+            else ice_texture_frame(self.path, self.layout, bubbles=self.bubbles, offset_mm=0.0)
         )
 
     # -- timing -----------------------------------------------------------------------------

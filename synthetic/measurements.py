@@ -709,15 +709,9 @@ def make_raw_runs(
     noise = check_nonnegative("noise", noise)
     sipes = _values("n_sipes", n_sipes, integer=True)
     velocities = _values("velocities_mps", velocities_mps)
-    if min(velocities) <= 0:
-        raise ValueError(f"velocities_mps must all be > 0, got {velocities_mps!r}")
-    if isinstance(n_repeats, bool) or int(n_repeats) != n_repeats or not 1 <= n_repeats <= 10:
-        raise ValueError(f"n_repeats must be an integer in 1..10, got n_repeats={n_repeats!r}")
-    fs = check_positive("sample_rate_Hz", sample_rate_Hz)
-    if fs > 50_000:
-        raise ValueError(f"sample_rate_Hz must be <= 50000 (the rig's rate), got {fs!r}")
-    check_positive("pressure_bar", pressure_bar)
-    interval = check_positive("run_interval_s", run_interval_s)
+    fs, interval = _check_raw_options(
+        velocities_mps, velocities, n_repeats, sample_rate_Hz, pressure_bar, run_interval_s
+    )
     if profile not in ("steady", "instationary"):
         raise ValueError(f"profile must be 'steady' or 'instationary', got profile={profile!r}")
     gen = np.random.default_rng(rng)
@@ -725,43 +719,29 @@ def make_raw_runs(
     tau = spec.relaxation_time_s
 
     order = [(v, rep, s) for v in velocities for rep in range(int(n_repeats)) for s in sipes]
-    phase = gen.uniform(0.0, 2.0 * np.pi)
-    session = np.arange(len(order)) * interval
-    swing = np.sin(2.0 * np.pi * session / _CHAMBER_PERIOD_S + phase)
-    temps = float(temperature_C) + _CHAMBER_TEMPERATURE_AMPLITUDE_C * swing
-    hums = np.clip(float(humidity_pct) - _CHAMBER_HUMIDITY_AMPLITUDE_PCT * swing, 0.0, 100.0)
-    factors = 1.0 + noise * gen.standard_normal(len(order))
-    seeds = gen.integers(0, 2**63 - 1, size=len(order))
-
+    session, temps, hums, factors, seeds = _session_drift(
+        len(order), gen, interval, float(temperature_C), float(humidity_pct), noise
+    )
     v_low = min(_RAW_V_MIN_MPS, min(velocities))
     v_grid = np.union1d(np.geomspace(v_low, max(velocities), _RAW_N_TABLE), velocities)
-    conditions = pd.DataFrame(
-        {
-            "n_sipes": np.repeat([s for _, _, s in order], v_grid.size),
-            "velocity_mps": np.tile(v_grid, len(order)),
-            "pressure_bar": float(pressure_bar),
-            "temperature_C": np.repeat(temps, v_grid.size),
-            "humidity_pct": np.repeat(hums, v_grid.size),
-            "salinity_pct": float(salinity_pct),
-        }
+    mu_tables = _run_mu_tables(
+        [s for _, _, s in order], v_grid, temps, hums, float(pressure_bar), salinity_pct, model
     )
-    mu_tables = _model_mu(conditions, model).reshape(len(order), v_grid.size)
     log_grid = np.log(v_grid)
+    condition = (
+        f"p={pressure_bar:g}bar T={temperature_C:g}C rH={humidity_pct:g}% K={salinity_pct:g}%"
+    )
 
     runs: list[pd.DataFrame] = []
     run_numbers: dict[tuple[float, int], int] = {}
     for k, (v, _rep, s) in enumerate(order):
         geometry = sipe_block(s)
-        specimen = _specimen_name(s)
         run_no = run_numbers[(v, s)] = run_numbers.get((v, s), 0) + 1
         table = mu_tables[k] * factors[k]
 
         def mu_of_v(vv: np.ndarray, table: np.ndarray = table) -> np.ndarray:
             return np.interp(np.log(np.maximum(vv, v_low)), log_grid, table)
 
-        condition = (
-            f"p={pressure_bar:g}bar T={temperature_C:g}C rH={humidity_pct:g}% K={salinity_pct:g}%"
-        )
         run = make_raw_run(
             mu_of_v,
             velocity_mps=v,
@@ -774,33 +754,118 @@ def make_raw_runs(
             humidity_pct=float(hums[k]),
             rng=int(seeds[k]),
             metadata={
-                "specimen": specimen,
+                "specimen": _specimen_name(s),
                 "condition": condition,
                 "run": run_no,
                 "nominal_area_mm2": geometry.nominal_area_mm2,
             },
         )
         if tau > 0:
-            truth = run.attrs["truth"]
-            sliding = truth["velocity_mps"] > 0
-            lagged = _relax(truth["mu"], sliding, tau, 1.0 / fs)
-            run["friction_force_N"] = (
-                run["friction_force_N"].to_numpy()
-                + (lagged - truth["mu"]) * truth["normal_force_N"]
-            )
-            truth["mu"] = lagged
-        run.attrs["run_truth"] = {
-            "file_index": k + 1,
-            "n_sipes": int(s),
-            "velocity_mps": float(v),
-            "session_time_s": float(session[k]),
-            "temperature_C": float(temps[k]),
-            "humidity_pct": float(hums[k]),
-            "mu_factor": float(factors[k]),
-        }
+            _lag_friction(run, tau, 1.0 / fs)
+        climate = (float(session[k]), float(temps[k]), float(hums[k]), float(factors[k]))
+        run.attrs["run_truth"] = _run_truth(k + 1, int(s), float(v), *climate)
         runs.append(run)
     logger.debug("made %d raw runs (%s, %.0f Hz)", len(runs), profile, fs)
     return runs
+
+
+def _run_truth(
+    file_index: int,
+    n_sipes: int,
+    velocity_mps: float,
+    session_time_s: float,
+    temperature_C: float,
+    humidity_pct: float,
+    mu_factor: float,
+) -> dict[str, Any]:
+    """``attrs["run_truth"]`` of one raw run."""
+    return {
+        "file_index": file_index,
+        "n_sipes": n_sipes,
+        "velocity_mps": velocity_mps,
+        "session_time_s": session_time_s,
+        "temperature_C": temperature_C,
+        "humidity_pct": humidity_pct,
+        "mu_factor": mu_factor,
+    }
+
+
+def _run_mu_tables(
+    sipes: list[int],
+    v_grid: np.ndarray,
+    temps: np.ndarray,
+    hums: np.ndarray,
+    pressure_bar: float,
+    salinity_pct: float,
+    model: DryWetParameters,
+) -> np.ndarray:
+    """mu of the dry/wet model on ``v_grid`` for each run's specimen and chamber climate,
+    (n_runs, n_grid)."""
+    conditions = pd.DataFrame(
+        {
+            "n_sipes": np.repeat(sipes, v_grid.size),
+            "velocity_mps": np.tile(v_grid, len(sipes)),
+            "pressure_bar": pressure_bar,
+            "temperature_C": np.repeat(temps, v_grid.size),
+            "humidity_pct": np.repeat(hums, v_grid.size),
+            "salinity_pct": float(salinity_pct),
+        }
+    )
+    return _model_mu(conditions, model).reshape(len(sipes), v_grid.size)
+
+
+def _check_raw_options(
+    velocities_mps: Any,
+    velocities: tuple,
+    n_repeats: Any,
+    sample_rate_Hz: Any,
+    pressure_bar: Any,
+    run_interval_s: Any,
+) -> tuple[float, float]:
+    """Check the options of :func:`make_raw_runs`; the sample rate and run interval."""
+    if min(velocities) <= 0:
+        raise ValueError(f"velocities_mps must all be > 0, got {velocities_mps!r}")
+    if isinstance(n_repeats, bool) or int(n_repeats) != n_repeats or not 1 <= n_repeats <= 10:
+        raise ValueError(f"n_repeats must be an integer in 1..10, got n_repeats={n_repeats!r}")
+    fs = check_positive("sample_rate_Hz", sample_rate_Hz)
+    if fs > 50_000:
+        raise ValueError(f"sample_rate_Hz must be <= 50000 (the rig's rate), got {fs!r}")
+    check_positive("pressure_bar", pressure_bar)
+    return fs, check_positive("run_interval_s", run_interval_s)
+
+
+def _session_drift(
+    n_runs: int,
+    gen: np.random.Generator,
+    interval_s: float,
+    temperature_C: float,
+    humidity_pct: float,
+    noise: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Start time, chamber temperature and humidity (Fig. 4.6), mu factor and seed per run.
+
+    Random draws, in this order: the phase of the chamber swing, the run factors
+    ``1 + noise * e`` and the runs' seeds.
+    """
+    phase = gen.uniform(0.0, 2.0 * np.pi)
+    session = np.arange(n_runs) * interval_s
+    swing = np.sin(2.0 * np.pi * session / _CHAMBER_PERIOD_S + phase)
+    temps = temperature_C + _CHAMBER_TEMPERATURE_AMPLITUDE_C * swing
+    hums = np.clip(humidity_pct - _CHAMBER_HUMIDITY_AMPLITUDE_PCT * swing, 0.0, 100.0)
+    factors = 1.0 + noise * gen.standard_normal(n_runs)
+    seeds = gen.integers(0, 2**63 - 1, size=n_runs)
+    return session, temps, hums, factors, seeds
+
+
+def _lag_friction(run: pd.DataFrame, tau_s: float, dt_s: float) -> None:
+    """Lag the run's friction behind mu(v) by Eq. 5.12 over its sliding phase (in place)."""
+    truth = run.attrs["truth"]
+    sliding = truth["velocity_mps"] > 0
+    lagged = _relax(truth["mu"], sliding, tau_s, dt_s)
+    run["friction_force_N"] = (
+        run["friction_force_N"].to_numpy() + (lagged - truth["mu"]) * truth["normal_force_N"]
+    )
+    truth["mu"] = lagged
 
 
 # -- writing ---------------------------------------------------------------------------------
