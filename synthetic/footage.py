@@ -990,7 +990,7 @@ def _element_frame(geom: BlockGeometry, states: _ModelStates, k: int) -> Element
 def _contact_params(spec: FootageSpec) -> ContactParams:
     geom = spec.geometry
     return ContactParams(
-        winkler_Pa_per_mm=_youngs_modulus() / geom.height_mm,
+        winkler_Pa_per_mm=float(REFERENCE_YOUNGS_MODULUS_PA) / geom.height_mm,
         width_mm=geom.width_mm,
         load_N=spec.pressure_bar * 1e5 * geom.nominal_area_mm2 * 1e-6,
         contrast=spec.contrast,
@@ -1743,10 +1743,6 @@ def _cells_at(
     kk = np.clip(k, 0, p_mid.size - 1)
     p = np.where(inside, p_mid[kk], 0.0)
     return p, np.where(inside & (p > 0), elem[kk], -1)
-
-
-def _youngs_modulus() -> float:
-    return float(REFERENCE_YOUNGS_MODULUS_PA)
 
 
 # -- public API ------------------------------------------------------------------------------
