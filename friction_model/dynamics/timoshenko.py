@@ -1330,9 +1330,9 @@ def _integrate(
 ) -> tuple[np.ndarray, Any, int]:
     """Step ``prob`` to ``t_out[-1]``, filling the states at ``t_out`` from the dense output.
 
-    The absolute tolerance is scaled per state (module notes on ``atol``); every step is
-    checked by :func:`_check_step`. Returns the states (n_out, dim), the stepper and the
-    number of steps.
+    The absolute tolerance is scaled per state (``solver`` of :func:`simulate_timoshenko`);
+    every step is checked by :func:`_check_step`. Returns the states (n_out, dim), the
+    stepper and the number of steps.
     """
     m, n2, d = prob.m, prob.n2, prob.params.height_m
     v_s = velocity_scale
