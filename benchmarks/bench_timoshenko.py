@@ -28,7 +28,7 @@ import numpy as np
 from scipy.integrate import BDF
 
 from friction_model import ArctanExponentialLaw
-from friction_model.dynamics import velocity_ramp
+from friction_model.dynamics import SolverOptions, velocity_ramp
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
     _TimoshenkoProblem,
@@ -69,8 +69,7 @@ def ours():
         friction=law,
         t_end_s=T_END,
         n_output=N_OUT,
-        rtol=RTOL,
-        atol=ATOL,
+        solver=SolverOptions(rtol=RTOL, atol=ATOL),
     )
 
 
@@ -108,8 +107,7 @@ t_ramp_ours, res_ramp = best_of(
         friction=law,
         t_end_s=RAMP_S,
         n_output=101,
-        rtol=RTOL,
-        atol=ATOL,
+        solver=SolverOptions(rtol=RTOL, atol=ATOL),
     )
 )
 t_ref, solver, tip_ref, prob = reference(T_END, CAP_S)

@@ -32,6 +32,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
+from friction_model.dynamics import SolverOptions
 from friction_model.dynamics.rigid import (
     BlockParams,
     element_surface_profiles,
@@ -74,7 +75,7 @@ res = simulate_block_dynamics(
     friction=RelaxedFriction(law, tau_s=TAU),
     initial_mu=0.0,
     t_end_s=t_end,
-    max_step_s=2e-5,
+    solver=SolverOptions(max_step_s=2e-5),
     output_step_s=2e-5,
 )
 print(f"{res.meta['nfev']} rhs evaluations, {res.meta['runtime_s']:.1f} s")

@@ -18,10 +18,6 @@ import math
 __all__ = ["aicc_known_sigma", "aicc_rss", "bic_known_sigma", "reduced_chi_square"]
 
 
-def _correction(k: int, n: int) -> float:
-    return 2.0 * k + 2.0 * k * (k + 1) / (n - k - 1)
-
-
 def aicc_known_sigma(chi2: float, k: int, n: int) -> float:
     """Corrected Akaike criterion for Gaussian errors of known sigma.
 
@@ -43,7 +39,8 @@ def aicc_known_sigma(chi2: float, k: int, n: int) -> float:
     """
     if n - k - 1 <= 0:
         return math.inf
-    return float(chi2 + _correction(k, n))
+    # summed left to right, as the callers' earlier copies did: the same float to the bit
+    return float(chi2 + 2.0 * k + 2.0 * k * (k + 1) / (n - k - 1))
 
 
 def aicc_rss(rss: float, k: int, n: int) -> float:
@@ -68,7 +65,7 @@ def aicc_rss(rss: float, k: int, n: int) -> float:
     """
     if n - k - 1 <= 0 or rss <= 0:
         return math.inf
-    return float(n * math.log(rss / n) + _correction(k, n))
+    return float(n * math.log(rss / n) + 2.0 * k + 2.0 * k * (k + 1) / (n - k - 1))
 
 
 def bic_known_sigma(chi2: float, k: int, n: int) -> float:

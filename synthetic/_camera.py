@@ -2,7 +2,7 @@
 :mod:`synthetic.footage`).
 
 The renderers produce a noise-free *signal* image in units of the sensor's full scale (1.0 =
-full well at gain 1). :func:`expose` turns it into digital numbers: photo-electrons with
+full well at gain 1). :class:`Sensor` turns it into digital numbers: photo-electrons with
 shot noise, read noise, gain, rounding and clipping to the bit depth. The static
 illumination (gradient and vignetting) and dust are computed once per clip by
 :func:`illumination_field` and :func:`dust_field`.
@@ -27,7 +27,6 @@ __all__ = [
     "Sensor",
     "box_blur_x",
     "dust_field",
-    "expose",
     "illumination_field",
     "interval_coverage",
     "max_dn",
@@ -250,33 +249,3 @@ class Sensor:
         sd += self.read_noise_dn * self.read_noise_dn
         np.sqrt(sd, out=sd)
         return sd
-
-
-def expose(
-    signal: np.ndarray,
-    *,
-    rng: np.random.Generator | None,
-    bit_depth: int,
-    gain: float,
-    full_well_e: float,
-    read_noise_dn: float,
-    shot_noise: bool,
-) -> np.ndarray:
-    """Digitise one signal image (see :class:`Sensor`; convenience for single frames).
-
-    Examples
-    --------
-    >>> img = expose(np.full((2, 3), 0.5), rng=None, bit_depth=8, gain=1.0,
-    ...              full_well_e=1e4, read_noise_dn=0.0, shot_noise=True)
-    >>> img.tolist(), img.dtype
-    ([[128, 128, 128], [128, 128, 128]], dtype('uint8'))
-    """
-    sensor = Sensor(
-        signal.shape,
-        bit_depth=bit_depth,
-        gain=gain,
-        full_well_e=full_well_e,
-        read_noise_dn=read_noise_dn,
-        shot_noise=shot_noise,
-    )
-    return sensor(np.asarray(signal, dtype=np.float32), rng)

@@ -33,14 +33,15 @@ carrying the nominal load ``p_nominal * A`` over its nominal area ``A``:
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from scipy.ndimage import gaussian_filter
 
+from friction_model import DryWetParameters, real_contact_fraction
 from synthetic._render_tir import pressure_cells
 
 __all__ = [
@@ -198,18 +199,12 @@ def real_fraction(pressure_Pa: np.ndarray) -> np.ndarray:
     :class:`friction_model.DryWetParameters` (``phi = clip(0.68 (p / 2.5 bar)^0.22, 0.01,
     1)`` at the time of writing); 0 where ``p <= 0``.
     """
-    from friction_model import DryWetParameters, real_contact_fraction
-
     p = np.asarray(pressure_Pa, dtype=np.float64)
-    phi = np.asarray(real_contact_fraction(np.maximum(p, 1e-300), _params(DryWetParameters)))
+    phi = np.asarray(real_contact_fraction(np.maximum(p, 1e-300), _default_params()))
     return np.where(p > 0, phi, 0.0)
 
 
-_PARAMS: list[Any] = []
-
-
-def _params(cls: type) -> Any:
-    """The default parameters of ``cls`` (one instance per process)."""
-    if not _PARAMS:
-        _PARAMS.append(cls())
-    return _PARAMS[0]
+@functools.cache
+def _default_params() -> DryWetParameters:
+    """The default dry/wet parameters (one instance per process)."""
+    return DryWetParameters()

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from synthetic._camera import box_blur_x
 from synthetic._render_tir import ElementFrame, PathGeometry
 
 __all__ = [
@@ -315,8 +316,6 @@ def render_side_signal(
     ice = _ice_coverage(path, layout, h, w)
     tex = ice_texture
     if blur_px > 1e-9:
-        from synthetic._camera import box_blur_x
-
         if blur_block:
             alpha, colour = box_blur_x(alpha, blur_px), box_blur_x(colour, blur_px)
         else:

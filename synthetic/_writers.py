@@ -16,7 +16,9 @@ import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import cv2
 import numpy as np
+import tifffile
 
 if TYPE_CHECKING:
     from synthetic.footage import FootageSpec
@@ -63,8 +65,6 @@ class FrameSink:
             ext = {"png": "png", "tiff": "tif", "jpg": "jpg"}[fmt]
             self.info = {"frame_pattern": f"frames/frame_{{frame:06d}}.{ext}"}
         elif fmt == "avi":
-            import cv2
-
             path = out_dir / "footage.avi"
             for codec in _AVI_CODECS:
                 writer = cv2.VideoWriter(
@@ -84,8 +84,6 @@ class FrameSink:
                     f"OpenCV could not open an AVI writer with any of the codecs {_AVI_CODECS}"
                 )
         else:
-            import tifffile
-
             path = out_dir / "footage.tif"
             itemsize = 1 if cam.bit_depth == 8 else 2
             size = spec.n_frames * cam.width_px * cam.height_px * itemsize
@@ -100,14 +98,10 @@ class FrameSink:
                 raise ValueError(f"fmt='jpg' needs the JPEG bytes of frame {k}, got None")
             (self.out_dir / "frames" / f"frame_{k:06d}.jpg").write_bytes(encoded)
         elif self.fmt == "png":
-            import cv2
-
             name = self.out_dir / "frames" / f"frame_{k:06d}.png"
             if not cv2.imwrite(str(name), image, [cv2.IMWRITE_PNG_COMPRESSION, _PNG_LEVEL]):
                 raise OSError(f"could not write {name}")
         elif self.fmt == "tiff":
-            import tifffile
-
             name = self.out_dir / "frames" / f"frame_{k:06d}.tif"
             tifffile.imwrite(name, image, photometric="minisblack", metadata=None)
         elif self.fmt == "avi":

@@ -41,7 +41,7 @@ from friction_model.contact.drywet import DryWetParameters, friction_table
 from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
 from friction_model.geometry import BlockGeometry
 from synthetic.measurements import DEFAULT_NOISE, TAU_REF_S, SteadyGrid, make_transient_table
-from tir_common.validate import check_positive
+from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = [
     "TRANSIENT_STRENGTH_MAX",
@@ -142,9 +142,7 @@ def _size(
     mu0: np.ndarray,
     absorb: str,
 ) -> float:
-    strength = float(strength)
-    if not math.isfinite(strength) or strength < 0:
-        raise ValueError(f"strength must be a finite number >= 0, got {strength!r}")
+    strength = check_nonnegative("strength", strength)
     if strength == 0.0:
         return 0.0
     mu1 = _mu(table, base.with_(effects=Effects.only(**{effect: strength})))
@@ -339,9 +337,7 @@ def transient_effect_size(
     _check_transient(effect)
     if absorb not in ("levels", "none"):
         raise ValueError(f"absorb must be 'levels' or 'none', got {absorb!r}")
-    strength = float(strength)
-    if not math.isfinite(strength) or strength < 0:
-        raise ValueError(f"strength must be a finite number >= 0, got {strength!r}")
+    strength = check_nonnegative("strength", strength)
     if "noise" in table or "rng" in table or "effects" in table:
         raise TypeError("transient_effect_size takes no noise, rng or effects argument")
     if strength == 0.0:

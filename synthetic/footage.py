@@ -67,16 +67,25 @@ import functools
 import logging
 import math
 import numbers
-import sys
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 import pandas as pd
 
 from friction_model.compound import REFERENCE_COMPOUND
+from friction_model.contact.drywet_law import DryWetLaw
+from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
+from friction_model.dynamics import (
+    BlockParams,
+    SolverOptions,
+    simulate_block_dynamics,
+    velocity_step,
+)
+from friction_model.dynamics.rigid import REFERENCE_YOUNGS_MODULUS_PA
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
 from synthetic._camera import (
     Sensor,
@@ -116,6 +125,9 @@ from synthetic._render_tir import (
     tir_truth_rows,
 )
 from synthetic._writers import FrameSink, open_sink, write_meta
+from tir_common.atomic import json_safe
+from tir_common.progress import progress_bar
+from tir_common.validate import check_number
 
 __all__ = [
     "REAL_TRUTH_COLUMNS",
@@ -162,7 +174,7 @@ _STEADY_FRACTION = 0.3
 #: self-excited stick-slip depends on the solver's step choice, and the ``steady`` average,
 #: whose window may end mid-cycle, moved by 8 % between scipy 1.10 and 1.17; at 1e-5 both
 #: agree with the converged value (rtol 1e-8) to 1e-4 relative, for 20 % more run time.
-_RTOL, _ATOL = 1e-5, 1e-8
+_SOLVER = SolverOptions(rtol=1e-5, atol=1e-8)
 #: Side view: image row of the ice surface line as a fraction of the image height.
 _SIDE_ICE_ROW = 0.75
 #: Fields of the velocity step and the friction relaxation and their defaults (left out of
@@ -199,27 +211,6 @@ REAL_TRUTH_COLUMNS = ("nominal_contact_area_mm2", "real_contact_fraction")
 
 
 # -- validation helpers --------------------------------------------------------------------
-def _real(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}: {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {name}={value!r}")
-    return value
-
-
-def _in_range(
-    name: str, value: Any, low: float, high: float, *, low_open: bool = False, unit: str = ""
-) -> float:
-    v = _real(name, value)
-    ok = (low < v if low_open else low <= v) and v <= high
-    if not ok:
-        br = "(" if low_open else "["
-        u = f" {unit}" if unit else ""
-        raise ValueError(f"{name} must lie in {br}{low:g}, {high:g}]{u}, got {name}={value!r}")
-    return v
-
-
 def _integer(name: str, value: Any, low: int, high: int) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an integer, got {type(value).__name__}: {value!r}")
@@ -342,35 +333,46 @@ class CameraSettings:
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
-        put("fps", _in_range("fps", self.fps, 0.0, 1e7, low_open=True, unit="frames/s"))
+        put("fps", check_number("fps", self.fps, low=0.0, high=1e7, low_open=True, unit="frames/s"))
         put(
             "exposure_s",
-            _in_range("exposure_s", self.exposure_s, 0.0, 1.0 / self.fps, unit="s (<= 1/fps)"),
+            check_number(
+                "exposure_s", self.exposure_s, low=0.0, high=1.0 / self.fps, unit="s (<= 1/fps)"
+            ),
         )
-        put("mm_per_px", _in_range("mm_per_px", self.mm_per_px, 0.0, 10.0, low_open=True))
+        put(
+            "mm_per_px",
+            check_number("mm_per_px", self.mm_per_px, low=0.0, high=10.0, low_open=True),
+        )
         put("width_px", _integer("width_px", self.width_px, 16, 16384))
         put("height_px", _integer("height_px", self.height_px, 16, 16384))
         put("bit_depth", _choice("bit_depth", self.bit_depth, (8, 12, 16)))
-        put("gain", _in_range("gain", self.gain, 0.0, 100.0, low_open=True))
+        put("gain", check_number("gain", self.gain, low=0.0, high=100.0, low_open=True))
         if self.read_noise_dn is not None:
-            put("read_noise_dn", _in_range("read_noise_dn", self.read_noise_dn, 0.0, 1e6))
-        put("full_well_e", _in_range("full_well_e", self.full_well_e, 100.0, 1e7))
-        put("white_level", _in_range("white_level", self.white_level, 0.0, 1.0, low_open=True))
+            put(
+                "read_noise_dn",
+                check_number("read_noise_dn", self.read_noise_dn, low=0.0, high=1e6),
+            )
+        put("full_well_e", check_number("full_well_e", self.full_well_e, low=100.0, high=1e7))
+        put(
+            "white_level",
+            check_number("white_level", self.white_level, low=0.0, high=1.0, low_open=True),
+        )
         put("shot_noise", _flag("shot_noise", self.shot_noise))
-        put("rotation_deg", _in_range("rotation_deg", self.rotation_deg, -45.0, 45.0))
-        g = _in_range("illumination_gradient", self.illumination_gradient, 0.0, 1.0)
+        put("rotation_deg", check_number("rotation_deg", self.rotation_deg, low=-45.0, high=45.0))
+        g = check_number("illumination_gradient", self.illumination_gradient, low=0.0, high=1.0)
         if g >= 1.0:
             raise ValueError(
                 f"illumination_gradient must lie in [0, 1), got illumination_gradient={g!r}"
             )
         put("illumination_gradient", g)
-        vg = _in_range("vignetting", self.vignetting, 0.0, 1.0)
+        vg = check_number("vignetting", self.vignetting, low=0.0, high=1.0)
         if vg >= 1.0:
             raise ValueError(f"vignetting must lie in [0, 1), got vignetting={vg!r}")
         put("vignetting", vg)
         for name in ("n_bubbles", "n_scratches", "n_dust"):
             put(name, _integer(name, getattr(self, name), 0, 10000))
-        gd = _in_range("groove_depth", self.groove_depth, 0.0, 1.0)
+        gd = check_number("groove_depth", self.groove_depth, low=0.0, high=1.0)
         if gd >= 1.0:
             raise ValueError(f"groove_depth must lie in [0, 1), got groove_depth={gd!r}")
         put("groove_depth", gd)
@@ -379,8 +381,11 @@ class CameraSettings:
     def _check_real_footage(self, put: Any) -> None:
         """Validate the lit zone and JPEG fields."""
         put("lit_shape", _choice("lit_shape", self.lit_shape, LIT_SHAPES))
-        put("lit_fraction", _in_range("lit_fraction", self.lit_fraction, 0.2, 1.0))
-        put("lit_rim_mm", _in_range("lit_rim_mm", self.lit_rim_mm, 0.0, 100.0, unit="mm"))
+        put("lit_fraction", check_number("lit_fraction", self.lit_fraction, low=0.2, high=1.0))
+        put(
+            "lit_rim_mm",
+            check_number("lit_rim_mm", self.lit_rim_mm, low=0.0, high=100.0, unit="mm"),
+        )
         centre = self.lit_center_mm
         if not isinstance(centre, (tuple, list)) or len(centre) != 2:
             raise TypeError(
@@ -388,9 +393,12 @@ class CameraSettings:
             )
         put(
             "lit_center_mm",
-            (_real("lit_center_mm[0]", centre[0]), _real("lit_center_mm[1]", centre[1])),
+            (
+                check_number("lit_center_mm[0]", centre[0]),
+                check_number("lit_center_mm[1]", centre[1]),
+            ),
         )
-        out = _in_range("outside_level", self.outside_level, 0.0, 1.0)
+        out = check_number("outside_level", self.outside_level, low=0.0, high=1.0)
         if out >= 1.0:
             raise ValueError(f"outside_level must lie in [0, 1), got outside_level={out!r}")
         put("outside_level", out)
@@ -587,16 +595,20 @@ class FootageSpec:
         put("view", _choice("view", self.view, ("tir", "side")))
         put(
             "velocity_mps",
-            _in_range("velocity_mps", self.velocity_mps, 0.0, 30.0, low_open=True, unit="m/s"),
+            check_number(
+                "velocity_mps", self.velocity_mps, low=0.0, high=30.0, low_open=True, unit="m/s"
+            ),
         )
         put("n_frames", _integer("n_frames", self.n_frames, 1, 10_000_000))
         put(
             "pressure_bar",
-            _in_range("pressure_bar", self.pressure_bar, 0.0, 10.0, low_open=True, unit="bar"),
+            check_number(
+                "pressure_bar", self.pressure_bar, low=0.0, high=10.0, low_open=True, unit="bar"
+            ),
         )
-        put("temperature_C", _in_range("temperature_C", self.temperature_C, -60.0, 0.0))
-        put("humidity_pct", _in_range("humidity_pct", self.humidity_pct, 0.0, 100.0))
-        put("salinity_pct", _in_range("salinity_pct", self.salinity_pct, 0.0, 3.5))
+        put("temperature_C", check_number("temperature_C", self.temperature_C, low=-60.0, high=0.0))
+        put("humidity_pct", check_number("humidity_pct", self.humidity_pct, low=0.0, high=100.0))
+        put("salinity_pct", check_number("salinity_pct", self.salinity_pct, low=0.0, high=3.5))
         put(
             "sliding_direction",
             _choice("sliding_direction", self.sliding_direction, ("left", "right")),
@@ -608,22 +620,32 @@ class FootageSpec:
         put("noise", _flag("noise", self.noise))
         put("follow_camera", _flag("follow_camera", self.follow_camera))
         put("dynamics", _choice("dynamics", self.dynamics, ("simulated", "steady")))
-        put("settle_s", _in_range("settle_s", self.settle_s, 0.0, 1.0, low_open=True, unit="s"))
+        put(
+            "settle_s",
+            check_number("settle_s", self.settle_s, low=0.0, high=1.0, low_open=True, unit="s"),
+        )
         put("friction", _choice("friction", self.friction, ("exponential", "drywet")))
-        put("loss_factor", _in_range("loss_factor", self.loss_factor, 0.0, 2.0))
+        put("loss_factor", check_number("loss_factor", self.loss_factor, low=0.0, high=2.0))
         if self.center_time_s is not None:
-            put("center_time_s", _real("center_time_s", self.center_time_s))
-        put("lateral_offset_mm", _real("lateral_offset_mm", self.lateral_offset_mm))
-        put("contrast", _in_range("contrast", self.contrast, 0.0, 1.0, low_open=True))
+            put("center_time_s", check_number("center_time_s", self.center_time_s))
+        put("lateral_offset_mm", check_number("lateral_offset_mm", self.lateral_offset_mm))
+        put("contrast", check_number("contrast", self.contrast, low=0.0, high=1.0, low_open=True))
         put(
             "contrast_max",
-            _in_range("contrast_max", self.contrast_max, self.contrast, 1.0, unit="(>= contrast)"),
+            check_number(
+                "contrast_max", self.contrast_max, low=self.contrast, high=1.0, unit="(>= contrast)"
+            ),
         )
         put(
             "pressure_ref_MPa",
-            _in_range("pressure_ref_MPa", self.pressure_ref_MPa, 0.0, 1e4, low_open=True),
+            check_number(
+                "pressure_ref_MPa", self.pressure_ref_MPa, low=0.0, high=1e4, low_open=True
+            ),
         )
-        put("edge_band_mm", _in_range("edge_band_mm", self.edge_band_mm, 0.0, 5.0, unit="mm"))
+        put(
+            "edge_band_mm",
+            check_number("edge_band_mm", self.edge_band_mm, low=0.0, high=5.0, unit="mm"),
+        )
         self._check_step(put)
         self._check_real_footage(put)
 
@@ -633,21 +655,25 @@ class FootageSpec:
         put("real_contact", _choice("real_contact", self.real_contact, ("solid", "patchy")))
         put(
             "pad_radius_mm",
-            _in_range("pad_radius_mm", self.pad_radius_mm, 0.0, 100.0, low_open=True),
+            check_number("pad_radius_mm", self.pad_radius_mm, low=0.0, high=100.0, low_open=True),
         )
         put(
             "point_radius_mm",
-            _in_range("point_radius_mm", self.point_radius_mm, 0.0, 100.0, low_open=True),
+            check_number(
+                "point_radius_mm", self.point_radius_mm, low=0.0, high=100.0, low_open=True
+            ),
         )
         put(
             "patch_correlation_mm",
-            _in_range("patch_correlation_mm", self.patch_correlation_mm, 0.0, 10.0, low_open=True),
+            check_number(
+                "patch_correlation_mm", self.patch_correlation_mm, low=0.0, high=10.0, low_open=True
+            ),
         )
         radii = self.coin_radii_mm
         if not isinstance(radii, (tuple, list)) or len(radii) != 2:
             raise TypeError(f"coin_radii_mm must be a pair (inner, outer), got {radii!r}")
-        r_in = _in_range("coin_radii_mm[0]", radii[0], 0.0, 100.0)
-        r_out = _in_range("coin_radii_mm[1]", radii[1], r_in, 100.0, low_open=True)
+        r_in = check_number("coin_radii_mm[0]", radii[0], low=0.0, high=100.0)
+        r_out = check_number("coin_radii_mm[1]", radii[1], low=r_in, high=100.0, low_open=True)
         put("coin_radii_mm", (r_in, r_out))
         if self.point_positions_mm is not None:
             pts = self.point_positions_mm
@@ -662,8 +688,8 @@ class FootageSpec:
                     raise TypeError(f"point_positions_mm[{j}] must be a pair (x, y), got {pt!r}")
                 clean.append(
                     (
-                        _real(f"point_positions_mm[{j}]", pt[0]),
-                        _real(f"point_positions_mm[{j}]", pt[1]),
+                        check_number(f"point_positions_mm[{j}]", pt[0]),
+                        check_number(f"point_positions_mm[{j}]", pt[1]),
                     )
                 )
             put("point_positions_mm", tuple(clean))
@@ -712,7 +738,9 @@ class FootageSpec:
         """Validate the velocity step and the friction relaxation (Eq. 5.12) fields."""
         put(
             "friction_relaxation_s",
-            _in_range("friction_relaxation_s", self.friction_relaxation_s, 0.0, 1.0, unit="s"),
+            check_number(
+                "friction_relaxation_s", self.friction_relaxation_s, low=0.0, high=1.0, unit="s"
+            ),
         )
         if self.velocity_step_to_mps is None:
             if self.step_time_s is not None:
@@ -723,11 +751,11 @@ class FootageSpec:
             return
         put(
             "velocity_step_to_mps",
-            _in_range(
+            check_number(
                 "velocity_step_to_mps",
                 self.velocity_step_to_mps,
-                0.0,
-                30.0,
+                low=0.0,
+                high=30.0,
                 low_open=True,
                 unit="m/s",
             ),
@@ -739,7 +767,7 @@ class FootageSpec:
             )
         put(
             "step_time_s",
-            _in_range("step_time_s", self.step_time_s, 0.0, self.duration_s, unit="s"),
+            check_number("step_time_s", self.step_time_s, low=0.0, high=self.duration_s, unit="s"),
         )
         if self.dynamics != "simulated":
             raise ValueError(
@@ -799,7 +827,7 @@ class FootageSpec:
         The velocity step and relaxation fields appear only when set (a spec without them
         gives the same dict, and ``meta.json``, as before they existed).
         """
-        out = _jsonable(dataclasses.asdict(self))
+        out = json_safe(dataclasses.asdict(self))
         for name in _STEP_FIELDS:
             if out[name] == _STEP_DEFAULTS[name]:
                 del out[name]
@@ -810,16 +838,6 @@ class FootageSpec:
             if out["camera"][name] == default:
                 del out["camera"][name]
         return out
-
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {k: _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.generic):
-        return obj.item()
-    return obj
 
 
 # -- the block model -------------------------------------------------------------------------
@@ -877,11 +895,6 @@ class _ModelInput:
 @functools.lru_cache(maxsize=16)
 def _simulate(spec: _ModelInput) -> _ModelStates:
     """Integrate the rigid block model once per distinct model input (cached)."""
-    from friction_model.contact.drywet_law import DryWetLaw
-    from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
-    from friction_model.dynamics import velocity_step
-    from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
-
     geom = spec.geometry
     lengths = geom.element_lengths * 1e-3
     params = BlockParams(
@@ -936,8 +949,7 @@ def _simulate(spec: _ModelInput) -> _ModelStates:
         friction=law,
         t_end_s=t_end,
         output_step_s=step,
-        rtol=_RTOL,
-        atol=_ATOL,
+        solver=_SOLVER,
     )
     phi = np.asarray(res.fields["phi_rad"], dtype=np.float64)
     n = geom.n_elements
@@ -978,7 +990,7 @@ def _element_frame(geom: BlockGeometry, states: _ModelStates, k: int) -> Element
 def _contact_params(spec: FootageSpec) -> ContactParams:
     geom = spec.geometry
     return ContactParams(
-        winkler_Pa_per_mm=_youngs_modulus() / geom.height_mm,
+        winkler_Pa_per_mm=float(REFERENCE_YOUNGS_MODULUS_PA) / geom.height_mm,
         width_mm=geom.width_mm,
         load_N=spec.pressure_bar * 1e5 * geom.nominal_area_mm2 * 1e-6,
         contrast=spec.contrast,
@@ -1223,62 +1235,10 @@ class _Clip:
         level = np.float32(cam.white_level)
         self.lit = lit_zone(spec)
         self.ice_canvas: _IceCanvas | None = None
-        if spec.view == "tir" and spec.follow_camera:
-            self.ice_canvas = _IceCanvas(self, scene_rng)
-            self.camera_base = (level * illum * dust * self.lit.factor).astype(np.float32)
-            self.base = self.camera_base * self.ice_canvas.frame(0)
-            self.lateral = self.path.lateral_coverage()
-        elif spec.view == "tir":
-            ice = ice_transmission(
-                self.path,
-                rng=scene_rng,
-                n_bubbles=cam.n_bubbles,
-                n_scratches=cam.n_scratches,
-                groove_depth=cam.groove_depth,
-            )
-            if self.lit.shape == "full":
-                self.base = (level * illum * ice * dust).astype(np.float32)
-            else:
-                self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
-            self.lateral = self.path.lateral_coverage()
+        if spec.view == "tir":
+            self._init_tir_background(level, illum, dust, scene_rng)
         else:
-            self.base = (level * illum * dust).astype(np.float32)
-            dark = spec.contact_is == "dark"
-            # Levels (fractions of S): backlight 1.0 / 0.1, carbon-black rubber reflects
-            # ~8 % (0.85 front-lit), matte steel 0.4 / 0.5, ice slab 0.6 / 0.3. The rubber
-            # above the sipe ground is not given in the thesis: 2 mm, a usual tread base,
-            # glued to a 3 mm steel carrier that overhangs the block by 1 mm.
-            self.layout = SideLayout(
-                ice_y_mm=_SIDE_ICE_ROW * h_mm,
-                base_mm=2.0,
-                carrier_mm=3.0,
-                carrier_overhang_mm=1.0,
-                background=1.0 if dark else 0.1,
-                rubber=0.08 if dark else 0.85,
-                carrier=0.4 if dark else 0.5,
-                ice=0.6 if dark else 0.3,
-            )
-            # Bubbles of the ice slab over the whole stretch of track the camera can see:
-            # radius 0.05-0.3 mm as in the TIR view, 0.3-5 mm below the surface, brighter
-            # than the ice by 15-40 % (they scatter the backlight towards the camera).
-            v_max = max(spec.velocity_mps, spec.velocity_step_to_mps or 0.0)
-            travel = v_max * 1e3 * spec.duration_s
-            span = w_mm + 2.0 * travel
-            n_b = round(cam.n_bubbles * span / w_mm)
-            bubbles = np.column_stack(
-                [
-                    scene_rng.uniform(-travel, w_mm + travel, n_b),
-                    scene_rng.uniform(0.3, 5.0, n_b),
-                    scene_rng.uniform(0.05, 0.3, n_b),
-                    scene_rng.uniform(0.15, 0.4, n_b),
-                ]
-            )
-            self.bubbles = bubbles[np.argsort(bubbles[:, 0], kind="stable")]
-            self.static_ice = (
-                None
-                if spec.follow_camera
-                else ice_texture_frame(self.path, self.layout, bubbles=self.bubbles, offset_mm=0.0)
-            )
+            self._init_side_background(level, illum, dust, scene_rng)
         self.node_spacing_mm = cam.mm_per_px / 8.0
         self._cached: tuple[int, Any] | None = None
         self.patches: PatchTexture | None = None
@@ -1294,6 +1254,75 @@ class _Clip:
             full_well_e=cam.full_well_e,
             read_noise_dn=cam.read_noise,
             shot_noise=cam.shot_noise,
+        )
+
+    def _init_tir_background(
+        self, level: np.float32, illum: np.ndarray, dust: np.ndarray, scene_rng: np.random.Generator
+    ) -> None:
+        """Signal of the TIR view without the block: light, ice (or the moving ice canvas of
+        ``follow_camera``), dust and the lit zone."""
+        spec, cam = self.spec, self.spec.camera
+        if spec.follow_camera:
+            self.ice_canvas = _IceCanvas(self, scene_rng)
+            self.camera_base = (level * illum * dust * self.lit.factor).astype(np.float32)
+            self.base = self.camera_base * self.ice_canvas.frame(0)
+        else:
+            ice = ice_transmission(
+                self.path,
+                rng=scene_rng,
+                n_bubbles=cam.n_bubbles,
+                n_scratches=cam.n_scratches,
+                groove_depth=cam.groove_depth,
+            )
+            if self.lit.shape == "full":
+                self.base = (level * illum * ice * dust).astype(np.float32)
+            else:
+                self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
+        self.lateral = self.path.lateral_coverage()
+
+    def _init_side_background(
+        self, level: np.float32, illum: np.ndarray, dust: np.ndarray, scene_rng: np.random.Generator
+    ) -> None:
+        """Side view without the block: light and dust, the layout of its levels and the
+        bubbles of the ice slab."""
+        spec, cam = self.spec, self.spec.camera
+        w_mm, h_mm = cam.field_of_view_mm
+        self.base = (level * illum * dust).astype(np.float32)
+        dark = spec.contact_is == "dark"
+        # Levels (fractions of S): backlight 1.0 / 0.1, carbon-black rubber reflects
+        # ~8 % (0.85 front-lit), matte steel 0.4 / 0.5, ice slab 0.6 / 0.3. The rubber
+        # above the sipe ground is not given in the thesis: 2 mm, a usual tread base,
+        # glued to a 3 mm steel carrier that overhangs the block by 1 mm.
+        self.layout = SideLayout(
+            ice_y_mm=_SIDE_ICE_ROW * h_mm,
+            base_mm=2.0,
+            carrier_mm=3.0,
+            carrier_overhang_mm=1.0,
+            background=1.0 if dark else 0.1,
+            rubber=0.08 if dark else 0.85,
+            carrier=0.4 if dark else 0.5,
+            ice=0.6 if dark else 0.3,
+        )
+        # Bubbles of the ice slab over the whole stretch of track the camera can see:
+        # radius 0.05-0.3 mm as in the TIR view, 0.3-5 mm below the surface, brighter
+        # than the ice by 15-40 % (they scatter the backlight towards the camera).
+        v_max = max(spec.velocity_mps, spec.velocity_step_to_mps or 0.0)
+        travel = v_max * 1e3 * spec.duration_s
+        span = w_mm + 2.0 * travel
+        n_b = round(cam.n_bubbles * span / w_mm)
+        bubbles = np.column_stack(
+            [
+                scene_rng.uniform(-travel, w_mm + travel, n_b),
+                scene_rng.uniform(0.3, 5.0, n_b),
+                scene_rng.uniform(0.05, 0.3, n_b),
+                scene_rng.uniform(0.15, 0.4, n_b),
+            ]
+        )
+        self.bubbles = bubbles[np.argsort(bubbles[:, 0], kind="stable")]
+        self.static_ice = (
+            None
+            if spec.follow_camera
+            else ice_texture_frame(self.path, self.layout, bubbles=self.bubbles, offset_mm=0.0)
         )
 
     # -- timing -----------------------------------------------------------------------------
@@ -1699,8 +1728,6 @@ class _Clip:
         quality = self.spec.camera.jpeg_quality
         if quality is None:
             return img, table, None
-        import cv2
-
         ok, buf = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, int(quality)])
         if not ok:
             raise RuntimeError(f"OpenCV could not JPEG-encode frame {k}")
@@ -1716,12 +1743,6 @@ def _cells_at(
     kk = np.clip(k, 0, p_mid.size - 1)
     p = np.where(inside, p_mid[kk], 0.0)
     return p, np.where(inside & (p > 0), elem[kk], -1)
-
-
-def _youngs_modulus() -> float:
-    from friction_model.dynamics.rigid import REFERENCE_YOUNGS_MODULUS_PA
-
-    return float(REFERENCE_YOUNGS_MODULUS_PA)
 
 
 # -- public API ------------------------------------------------------------------------------
@@ -1762,13 +1783,6 @@ def _iter_encoded(
     for k in range(spec.n_frames):
         img, table, encoded = clip.image(k)
         yield k, img, table, encoded
-
-
-def _progress_bar(total: int, progress: bool | None) -> Any:
-    from tqdm import tqdm
-
-    disable = (not progress) if progress is not None else not sys.stderr.isatty()
-    return tqdm(total=total, disable=disable, unit="frame", desc="footage", leave=False)
 
 
 def render_footage(
@@ -1831,7 +1845,7 @@ def render_footage(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     sink: FrameSink = open_sink(out, fmt, spec)
-    bar = _progress_bar(spec.n_frames, progress)
+    bar = progress_bar(spec.n_frames, progress=progress, unit="frame", desc="footage", leave=False)
     truth_path = out / "ground_truth.csv"
     columns = spec.truth_columns
     try:
@@ -1869,8 +1883,6 @@ def _fmt(v: Any) -> str:
 
 def _write_lit_mask(out: Path, spec: FootageSpec) -> dict[str, Any]:
     """Write ``lit_mask.png``; return the ``meta.json`` entries of the real-footage fields."""
-    import cv2
-
     zone = lit_zone(spec)
     path = out / "lit_mask.png"
     if not cv2.imwrite(str(path), zone.mask.astype(np.uint8) * 255):

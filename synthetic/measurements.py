@@ -66,14 +66,13 @@ from friction_model.dynamics.element_step import (
     MODULUS_ALPHA,
     MODULUS_F0_HZ,
     TAU_REF_S,
-    _check_strength,
-    _element,
-    _geometry,
-    _step_response,
     arm_storage_ratio,
     element_natural_frequency_Hz,
+    linear_step_states,
     modulus_ratio,
     modulus_scaled_frequency_Hz,
+    sipe_block,
+    step_element,
 )
 from friction_model.dynamics.rigid import (
     REFERENCE_LOSS_FACTOR,
@@ -81,6 +80,7 @@ from friction_model.dynamics.rigid import (
 )
 from friction_model.geometry import REFERENCE_SAMPLES
 from synthetic.rig import make_raw_run, write_run_csv
+from tir_common.atomic import json_safe
 from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = [
@@ -204,7 +204,7 @@ class EffectSpec:
                 f"{', '.join(EFFECT_NAMES)}"
             )
         clean = {
-            name: _check_strength(name, self.strengths[name])
+            name: check_nonnegative(name, self.strengths[name])
             for name in EFFECT_NAMES
             if name in self.strengths
         }
@@ -365,7 +365,7 @@ def _model_mu(conditions: pd.DataFrame, params: DryWetParameters) -> np.ndarray:
     """mu of the dry/wet model for a table with condition columns including n_sipes."""
     mu = np.empty(len(conditions))
     for n_sipes, rows in conditions.groupby("n_sipes", sort=True):
-        table = friction_table(_geometry(int(n_sipes)), rows.drop(columns="n_sipes"), params)
+        table = friction_table(sipe_block(int(n_sipes)), rows.drop(columns="n_sipes"), params)
         mu[conditions.index.get_indexer(rows.index)] = table["mu"].to_numpy(float)
     return mu
 
@@ -552,7 +552,7 @@ def make_transient_table(
     duration_s = check_positive("duration_s", duration_s)
     gen = np.random.default_rng(rng)
 
-    geometry = _geometry(n_sipes)
+    geometry = sipe_block(n_sipes)
     conditions = pd.DataFrame(
         {
             "velocity_mps": [float(v1_mps), float(v2_mps)],
@@ -563,14 +563,16 @@ def make_transient_table(
         }
     )
     mu1, mu2 = friction_table(geometry, conditions, _params(spec, params))["mu"].to_numpy(float)
-    el = _element(geometry, float(pressure_bar), spec.modulus_strength)
+    el = step_element(
+        geometry=geometry, pressure_bar=float(pressure_bar), modulus_strength=spec.modulus_strength
+    )
 
     moment = el.normal_force_N * el.lever_m
     c_eff = el.stiffness_Nm_rad
     a, b = el.system(tau)
     n = round((t_step_s + duration_s) * fs) + 1
     t = np.arange(n) / fs
-    states = _step_response(a, b, mu1, mu2, t, float(t_step_s), 1.0 / fs)
+    states = linear_step_states(a, b, mu1, mu2, t, float(t_step_s), 1.0 / fs)
     angle_true = np.degrees(states[:, 0])
     angle_before = math.degrees(moment * mu1 / c_eff)
     angle = angle_true + noise * abs(angle_before) * gen.standard_normal(n)
@@ -707,15 +709,9 @@ def make_raw_runs(
     noise = check_nonnegative("noise", noise)
     sipes = _values("n_sipes", n_sipes, integer=True)
     velocities = _values("velocities_mps", velocities_mps)
-    if min(velocities) <= 0:
-        raise ValueError(f"velocities_mps must all be > 0, got {velocities_mps!r}")
-    if isinstance(n_repeats, bool) or int(n_repeats) != n_repeats or not 1 <= n_repeats <= 10:
-        raise ValueError(f"n_repeats must be an integer in 1..10, got n_repeats={n_repeats!r}")
-    fs = check_positive("sample_rate_Hz", sample_rate_Hz)
-    if fs > 50_000:
-        raise ValueError(f"sample_rate_Hz must be <= 50000 (the rig's rate), got {fs!r}")
-    check_positive("pressure_bar", pressure_bar)
-    interval = check_positive("run_interval_s", run_interval_s)
+    fs, interval = _check_raw_options(
+        velocities_mps, velocities, n_repeats, sample_rate_Hz, pressure_bar, run_interval_s
+    )
     if profile not in ("steady", "instationary"):
         raise ValueError(f"profile must be 'steady' or 'instationary', got profile={profile!r}")
     gen = np.random.default_rng(rng)
@@ -723,43 +719,29 @@ def make_raw_runs(
     tau = spec.relaxation_time_s
 
     order = [(v, rep, s) for v in velocities for rep in range(int(n_repeats)) for s in sipes]
-    phase = gen.uniform(0.0, 2.0 * np.pi)
-    session = np.arange(len(order)) * interval
-    swing = np.sin(2.0 * np.pi * session / _CHAMBER_PERIOD_S + phase)
-    temps = float(temperature_C) + _CHAMBER_TEMPERATURE_AMPLITUDE_C * swing
-    hums = np.clip(float(humidity_pct) - _CHAMBER_HUMIDITY_AMPLITUDE_PCT * swing, 0.0, 100.0)
-    factors = 1.0 + noise * gen.standard_normal(len(order))
-    seeds = gen.integers(0, 2**63 - 1, size=len(order))
-
+    session, temps, hums, factors, seeds = _session_drift(
+        len(order), gen, interval, float(temperature_C), float(humidity_pct), noise
+    )
     v_low = min(_RAW_V_MIN_MPS, min(velocities))
     v_grid = np.union1d(np.geomspace(v_low, max(velocities), _RAW_N_TABLE), velocities)
-    conditions = pd.DataFrame(
-        {
-            "n_sipes": np.repeat([s for _, _, s in order], v_grid.size),
-            "velocity_mps": np.tile(v_grid, len(order)),
-            "pressure_bar": float(pressure_bar),
-            "temperature_C": np.repeat(temps, v_grid.size),
-            "humidity_pct": np.repeat(hums, v_grid.size),
-            "salinity_pct": float(salinity_pct),
-        }
+    mu_tables = _run_mu_tables(
+        [s for _, _, s in order], v_grid, temps, hums, float(pressure_bar), salinity_pct, model
     )
-    mu_tables = _model_mu(conditions, model).reshape(len(order), v_grid.size)
     log_grid = np.log(v_grid)
+    condition = (
+        f"p={pressure_bar:g}bar T={temperature_C:g}C rH={humidity_pct:g}% K={salinity_pct:g}%"
+    )
 
     runs: list[pd.DataFrame] = []
     run_numbers: dict[tuple[float, int], int] = {}
     for k, (v, _rep, s) in enumerate(order):
-        geometry = _geometry(s)
-        specimen = _specimen_name(s)
+        geometry = sipe_block(s)
         run_no = run_numbers[(v, s)] = run_numbers.get((v, s), 0) + 1
         table = mu_tables[k] * factors[k]
 
         def mu_of_v(vv: np.ndarray, table: np.ndarray = table) -> np.ndarray:
             return np.interp(np.log(np.maximum(vv, v_low)), log_grid, table)
 
-        condition = (
-            f"p={pressure_bar:g}bar T={temperature_C:g}C rH={humidity_pct:g}% K={salinity_pct:g}%"
-        )
         run = make_raw_run(
             mu_of_v,
             velocity_mps=v,
@@ -772,33 +754,118 @@ def make_raw_runs(
             humidity_pct=float(hums[k]),
             rng=int(seeds[k]),
             metadata={
-                "specimen": specimen,
+                "specimen": _specimen_name(s),
                 "condition": condition,
                 "run": run_no,
                 "nominal_area_mm2": geometry.nominal_area_mm2,
             },
         )
         if tau > 0:
-            truth = run.attrs["truth"]
-            sliding = truth["velocity_mps"] > 0
-            lagged = _relax(truth["mu"], sliding, tau, 1.0 / fs)
-            run["friction_force_N"] = (
-                run["friction_force_N"].to_numpy()
-                + (lagged - truth["mu"]) * truth["normal_force_N"]
-            )
-            truth["mu"] = lagged
-        run.attrs["run_truth"] = {
-            "file_index": k + 1,
-            "n_sipes": int(s),
-            "velocity_mps": float(v),
-            "session_time_s": float(session[k]),
-            "temperature_C": float(temps[k]),
-            "humidity_pct": float(hums[k]),
-            "mu_factor": float(factors[k]),
-        }
+            _lag_friction(run, tau, 1.0 / fs)
+        climate = (float(session[k]), float(temps[k]), float(hums[k]), float(factors[k]))
+        run.attrs["run_truth"] = _run_truth(k + 1, int(s), float(v), *climate)
         runs.append(run)
     logger.debug("made %d raw runs (%s, %.0f Hz)", len(runs), profile, fs)
     return runs
+
+
+def _run_truth(
+    file_index: int,
+    n_sipes: int,
+    velocity_mps: float,
+    session_time_s: float,
+    temperature_C: float,
+    humidity_pct: float,
+    mu_factor: float,
+) -> dict[str, Any]:
+    """``attrs["run_truth"]`` of one raw run."""
+    return {
+        "file_index": file_index,
+        "n_sipes": n_sipes,
+        "velocity_mps": velocity_mps,
+        "session_time_s": session_time_s,
+        "temperature_C": temperature_C,
+        "humidity_pct": humidity_pct,
+        "mu_factor": mu_factor,
+    }
+
+
+def _run_mu_tables(
+    sipes: list[int],
+    v_grid: np.ndarray,
+    temps: np.ndarray,
+    hums: np.ndarray,
+    pressure_bar: float,
+    salinity_pct: float,
+    model: DryWetParameters,
+) -> np.ndarray:
+    """mu of the dry/wet model on ``v_grid`` for each run's specimen and chamber climate,
+    (n_runs, n_grid)."""
+    conditions = pd.DataFrame(
+        {
+            "n_sipes": np.repeat(sipes, v_grid.size),
+            "velocity_mps": np.tile(v_grid, len(sipes)),
+            "pressure_bar": pressure_bar,
+            "temperature_C": np.repeat(temps, v_grid.size),
+            "humidity_pct": np.repeat(hums, v_grid.size),
+            "salinity_pct": float(salinity_pct),
+        }
+    )
+    return _model_mu(conditions, model).reshape(len(sipes), v_grid.size)
+
+
+def _check_raw_options(
+    velocities_mps: Any,
+    velocities: tuple,
+    n_repeats: Any,
+    sample_rate_Hz: Any,
+    pressure_bar: Any,
+    run_interval_s: Any,
+) -> tuple[float, float]:
+    """Check the options of :func:`make_raw_runs`; the sample rate and run interval."""
+    if min(velocities) <= 0:
+        raise ValueError(f"velocities_mps must all be > 0, got {velocities_mps!r}")
+    if isinstance(n_repeats, bool) or int(n_repeats) != n_repeats or not 1 <= n_repeats <= 10:
+        raise ValueError(f"n_repeats must be an integer in 1..10, got n_repeats={n_repeats!r}")
+    fs = check_positive("sample_rate_Hz", sample_rate_Hz)
+    if fs > 50_000:
+        raise ValueError(f"sample_rate_Hz must be <= 50000 (the rig's rate), got {fs!r}")
+    check_positive("pressure_bar", pressure_bar)
+    return fs, check_positive("run_interval_s", run_interval_s)
+
+
+def _session_drift(
+    n_runs: int,
+    gen: np.random.Generator,
+    interval_s: float,
+    temperature_C: float,
+    humidity_pct: float,
+    noise: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Start time, chamber temperature and humidity (Fig. 4.6), mu factor and seed per run.
+
+    Random draws, in this order: the phase of the chamber swing, the run factors
+    ``1 + noise * e`` and the runs' seeds.
+    """
+    phase = gen.uniform(0.0, 2.0 * np.pi)
+    session = np.arange(n_runs) * interval_s
+    swing = np.sin(2.0 * np.pi * session / _CHAMBER_PERIOD_S + phase)
+    temps = temperature_C + _CHAMBER_TEMPERATURE_AMPLITUDE_C * swing
+    hums = np.clip(humidity_pct - _CHAMBER_HUMIDITY_AMPLITUDE_PCT * swing, 0.0, 100.0)
+    factors = 1.0 + noise * gen.standard_normal(n_runs)
+    seeds = gen.integers(0, 2**63 - 1, size=n_runs)
+    return session, temps, hums, factors, seeds
+
+
+def _lag_friction(run: pd.DataFrame, tau_s: float, dt_s: float) -> None:
+    """Lag the run's friction behind mu(v) by Eq. 5.12 over its sliding phase (in place)."""
+    truth = run.attrs["truth"]
+    sliding = truth["velocity_mps"] > 0
+    lagged = _relax(truth["mu"], sliding, tau_s, dt_s)
+    run["friction_force_N"] = (
+        run["friction_force_N"].to_numpy() + (lagged - truth["mu"]) * truth["normal_force_N"]
+    )
+    truth["mu"] = lagged
 
 
 # -- writing ---------------------------------------------------------------------------------
@@ -864,14 +931,6 @@ def write_raw_runs(
     ]
 
 
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.generic | np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, os.PathLike):
-        return os.fspath(obj)
-    raise TypeError(f"cannot write {type(obj).__name__} to the truth file")
-
-
 def truth_path(out: str | os.PathLike[str]) -> Path:
     """The truth file beside an output: ``<out>.truth.json`` (a folder ``runs/`` gives
     ``runs.truth.json`` next to it).
@@ -889,7 +948,7 @@ def write_truth(out: str | os.PathLike[str], truth: Mapping[str, Any]) -> Path:
     """Write the truth of an output to :func:`truth_path` ``(out)`` as sorted, indented JSON."""
     path = truth_path(out)
     path.parent.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(truth, indent=2, sort_keys=True, default=_json_default)
+    text = json.dumps(json_safe(truth), indent=2, sort_keys=True)
     path.write_text(text + "\n", encoding="utf-8")
     return path
 

@@ -163,6 +163,63 @@ def make_raw_run(
     lift_off_s = check_nonnegative("lift_off_s", lift_off_s)
     gen = np.random.default_rng(rng)
 
+    phases, t, v, a = _timeline(
+        rest_s=rest_s,
+        velocity_mps=velocity_mps,
+        accel_mps2=accel_mps2,
+        decel_mps2=decel_mps2,
+        plateau_s=plateau_s,
+        lift_off_s=lift_off_s,
+        sample_rate_Hz=sample_rate_Hz,
+    )
+    n = t.size
+    x = np.cumsum(v) / sample_rate_Hz
+
+    lifted = t >= phases["lift_off_s"]
+    fn_true = _normal_force(x, lifted, normal_force_N, normal_force_ripple, gen)
+    mu = _friction_coefficient(mu_of_v, v)
+    ff_true = mu * fn_true + inertial_mass_kg * a
+
+    normal = fn_true + force_noise_N * gen.standard_normal(n)
+    friction = ff_true + force_noise_N * gen.standard_normal(n)
+    velocity = v + velocity_noise_mps * gen.standard_normal(n)
+
+    temperature, humidity = _ambient(t, temperature_C, humidity_pct, gen)
+
+    df = pd.DataFrame(
+        {
+            "time_s": t,
+            "velocity_mps": velocity,
+            "normal_force_N": normal,
+            "friction_force_N": friction,
+            "temperature_C": temperature,
+            "humidity_pct": humidity,
+        }
+    )
+    df.attrs["metadata"] = {"kind": kind, "inertial_mass_kg": inertial_mass_kg, **(metadata or {})}
+    df.attrs["phases"] = phases
+    df.attrs["truth"] = {
+        "velocity_mps": v,
+        "acceleration_mps2": a,
+        "normal_force_N": fn_true,
+        "mu": mu,
+    }
+    logger.debug("synthesised %s run: %d samples, %.3f s", kind, n, t[-1])
+    return df
+
+
+def _timeline(
+    *,
+    rest_s: float,
+    velocity_mps: float,
+    accel_mps2: float,
+    decel_mps2: float,
+    plateau_s: float,
+    lift_off_s: float,
+    sample_rate_Hz: float,
+) -> tuple[dict[str, float], np.ndarray, np.ndarray, np.ndarray]:
+    """Phase boundaries (s), sample times (s) and the exact piecewise-linear velocity (m/s)
+    and piecewise-constant acceleration (m/s^2) of a run."""
     t_start = rest_s
     t_plateau = t_start + velocity_mps / accel_mps2
     t_brake = t_plateau + plateau_s
@@ -171,8 +228,13 @@ def make_raw_run(
     t_end = t_lift + lift_off_s
     n = math.floor(t_end * sample_rate_Hz) + 1
     t = np.arange(n) / sample_rate_Hz
-
-    # exact piecewise-linear velocity and piecewise-constant acceleration
+    phases = {
+        "motion_start_s": t_start,
+        "plateau_start_s": t_plateau,
+        "plateau_end_s": t_brake,
+        "motion_end_s": t_stop,
+        "lift_off_s": t_lift,
+    }
     v = np.zeros(n)
     a = np.zeros(n)
     up = (t > t_start) & (t < t_plateau)
@@ -183,24 +245,39 @@ def make_raw_run(
     v[flat] = velocity_mps
     v[down] = velocity_mps - decel_mps2 * (t[down] - t_brake)
     a[down] = -decel_mps2
-    x = np.cumsum(v) / sample_rate_Hz
+    return phases, t, v, a
 
+
+def _normal_force(
+    x: np.ndarray, lifted: np.ndarray, mean_N: float, ripple: float, gen: np.random.Generator
+) -> np.ndarray:
+    """Normal force without noise, N: the spring preload with the ripple of the ice-surface
+    height (wavelength 0.5 m of track, random phase) while on the ice, 0 once lifted."""
     phase = gen.uniform(0.0, 2.0 * np.pi)
-    fn_true = normal_force_N * (
-        1.0 + normal_force_ripple * np.sin(2.0 * np.pi * x / _SURFACE_WAVELENGTH_M + phase)
-    )
-    fn_true[t >= t_lift] = 0.0
+    fn = mean_N * (1.0 + ripple * np.sin(2.0 * np.pi * x / _SURFACE_WAVELENGTH_M + phase))
+    fn[lifted] = 0.0
+    return fn
+
+
+def _friction_coefficient(mu_of_v: Callable[[np.ndarray], np.ndarray], v: np.ndarray) -> np.ndarray:
+    """mu_of_v(v) where the sample slides (v > 0), 0 at rest; ValueError if not finite."""
     sliding = v > 0.0
-    mu = np.zeros(n)
+    mu = np.zeros(v.size)
     mu[sliding] = np.asarray(mu_of_v(v[sliding]), dtype=float)
     if not np.all(np.isfinite(mu[sliding])):
         raise ValueError("mu_of_v returned non-finite friction coefficients")
-    ff_true = mu * fn_true + inertial_mass_kg * a
+    return mu
 
-    normal = fn_true + force_noise_N * gen.standard_normal(n)
-    friction = ff_true + force_noise_N * gen.standard_normal(n)
-    velocity = v + velocity_noise_mps * gen.standard_normal(n)
 
+def _ambient(
+    t: np.ndarray, temperature_C: float, humidity_pct: float, gen: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray]:
+    """Temperature (degC) and humidity (%) signals: a linear drift about the run means at a
+    random rate within the steepest slope of the chamber cycle (Fig. 4.6), plus sensor noise.
+
+    Random draws, in this order: the two rates, then the two noise series.
+    """
+    n = t.size
     t_mid = 0.5 * t[-1]
     slope = 2.0 * np.pi / _AMBIENT_PERIOD_S
     temp_rate = gen.uniform(-1.0, 1.0) * slope * _TEMPERATURE_AMPLITUDE_C
@@ -213,36 +290,7 @@ def make_raw_run(
     humidity = (
         humidity_pct + hum_rate * (t - t_mid) + _HUMIDITY_SENSOR_NOISE_PCT * gen.standard_normal(n)
     )
-
-    df = pd.DataFrame(
-        {
-            "time_s": t,
-            "velocity_mps": velocity,
-            "normal_force_N": normal,
-            "friction_force_N": friction,
-            "temperature_C": temperature,
-            "humidity_pct": humidity,
-        }
-    )
-    meta: dict[str, Any] = {"kind": kind, "inertial_mass_kg": inertial_mass_kg}
-    if metadata:
-        meta.update(metadata)
-    df.attrs["metadata"] = meta
-    df.attrs["phases"] = {
-        "motion_start_s": t_start,
-        "plateau_start_s": t_plateau,
-        "plateau_end_s": t_brake,
-        "motion_end_s": t_stop,
-        "lift_off_s": t_lift,
-    }
-    df.attrs["truth"] = {
-        "velocity_mps": v,
-        "acceleration_mps2": a,
-        "normal_force_N": fn_true,
-        "mu": mu,
-    }
-    logger.debug("synthesised %s run: %d samples, %.3f s", kind, n, t[-1])
-    return df
+    return temperature, humidity
 
 
 def write_run_csv(

@@ -19,8 +19,8 @@ from friction_model.contact.effects import EFFECT_NAMES
 from friction_model.discrepancy import (
     Candidate,
     ParameterSpec,
-    aicc,
-    bic,
+    aicc_known_sigma,
+    bic_known_sigma,
     block_bootstrap_weights,
     candidates,
     get_candidate,
@@ -100,9 +100,9 @@ def _data(c: float, seed: int, *, z_step: float = 0.0):
 
 def test_scores_by_hand():
     # AICc and BIC of Gaussian errors with known sigma, from the textbook formulas
-    assert aicc(10.0, 2, 13) == pytest.approx(10.0 + 4.0 + 12.0 / 10.0, abs=1e-12)
-    assert bic(10.0, 2, 100) == pytest.approx(10.0 + 2.0 * math.log(100.0), abs=1e-12)
-    assert aicc(1.0, 5, 6) == math.inf
+    assert aicc_known_sigma(10.0, 2, 13) == pytest.approx(10.0 + 4.0 + 12.0 / 10.0, abs=1e-12)
+    assert bic_known_sigma(10.0, 2, 100) == pytest.approx(10.0 + 2.0 * math.log(100.0), abs=1e-12)
+    assert aicc_known_sigma(1.0, 5, 6) == math.inf
 
 
 def test_heldout_scores_match_an_independent_refit():

@@ -12,7 +12,6 @@ from numpy.testing import assert_allclose, assert_array_equal
 
 import synthetic.measurements as measurements
 from friction_model.discrepancy._problem import Candidate, Problem
-from friction_model.discrepancy._scoring import aicc, bic
 from friction_model.discrepancy.stickslip import (
     THESIS_MEASURED_HZ,
     THESIS_SIGMA_HZ,
@@ -38,6 +37,7 @@ from friction_model.dynamics.element_step import (
     step_element,
     step_response,
 )
+from friction_model.model_selection import aicc_known_sigma, bic_known_sigma
 from synthetic.measurements import make_transient_table, write_table
 
 
@@ -344,10 +344,10 @@ def _scores(p):
     train = np.ones(p.y.size, bool)
     n, k0 = p.y.size, p.n_base
     chi2_base = _chi2(p, train, {})
-    out = {None: (0.0, bic(chi2_base, k0, n), aicc(chi2_base, k0, n))}
+    out = {None: (0.0, bic_known_sigma(chi2_base, k0, n), aicc_known_sigma(chi2_base, k0, n))}
     for name in p.effect_names:
         x, chi2 = _fit(p, train, name)
-        out[name] = (x, bic(chi2, k0 + 1, n), aicc(chi2, k0 + 1, n))
+        out[name] = (x, bic_known_sigma(chi2, k0 + 1, n), aicc_known_sigma(chi2, k0 + 1, n))
     return out
 
 

@@ -220,8 +220,7 @@ def test_simulated_dynamics_follow_the_rigid_model():
         friction=ExponentialLaw(a1=0.15, a2=0.25, a3=-0.8),
         t_end_s=(first + spec.n_frames - 0.75) / fps,
         output_step_s=1.0 / fps,
-        rtol=footage._RTOL,  # the renderer's own tolerances: the same integration
-        atol=footage._ATOL,
+        solver=footage._SOLVER,  # the renderer's own tolerances: the same integration
     )
     model = res.data[res.data["element"] == 0]["contact_fraction"].to_numpy()[first:]
     # Same integration, same Winkler contact: agreement to rounding.

@@ -61,8 +61,7 @@ def test_truth_is_the_rigid_model_with_the_step_and_relaxation(step_truth):
     t_end = (round(SETTLE * FPS) + N_FRAMES - 0.75) / FPS
     res = simulate_block_dynamics(params, velocity=velocity_step(V1, V2, SETTLE + T_STEP),
                                   preload=preload, friction=law, t_end_s=t_end,
-                                  output_step_s=1 / FPS, rtol=footage._RTOL,
-                                  atol=footage._ATOL)
+                                  output_step_s=1 / FPS, solver=footage._SOLVER)
     d = res.data[res.data["element"] == 0]
     expected = d["tip_deflection_mm"].to_numpy()[round(SETTLE * FPS):]
     # the same integration with the same tolerances: equal to rounding of the CSV values
@@ -137,7 +136,7 @@ def test_spec_without_the_new_fields_is_unchanged():
     assert list(plain.to_dict()) == old_keys
     assert "velocity_step_to_mps" in _step_spec().to_dict()
     # ground truth of this spec against its converged value. The clip's model is integrated
-    # with LSODA at rtol 1e-4 (synthetic.footage._RTOL); its "steady" value is the mean over
+    # with LSODA at rtol 1e-4 (synthetic.footage._SOLVER); its "steady" value is the mean over
     # the last 30 % of a 4 ms run that ends inside a stick-slip cycle, so it moves with the
     # solver's steps. Tolerance 10 x rtol (1e-3 relative, ~0.01 deg, the accuracy the
     # renderer needs); a 1 % change of the physics fails (at loss factor 0.4, before the one

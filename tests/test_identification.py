@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from friction_model.contact.laws import ConstantLaw, DecreasingSqrtLaw
-from friction_model.dynamics import SdofParams, simulate_sdof, velocity_step
+from friction_model.dynamics import SdofParams, SolverOptions, simulate_sdof, velocity_step
 from friction_model.identification.identify import (
     DeflectionSeries,
     SteadyCharacteristic,
@@ -91,7 +91,7 @@ def nonlinear_step():
         friction=LAW_TRUE,
         t_end_s=0.03,
         output_step_s=1e-4,
-        max_step_s=5e-5,
+        solver=SolverOptions(max_step_s=5e-5),
         initial_angle_rad=phi0,
     )
     t = res.data["time_s"].to_numpy()

@@ -21,7 +21,12 @@ from friction_model.contact.laws import (
     RelaxedFriction,
     VenkateshLaw,
 )
-from friction_model.dynamics import SimulationError, velocity_ramp, velocity_step
+from friction_model.dynamics import (
+    SimulationError,
+    SolverOptions,
+    velocity_ramp,
+    velocity_step,
+)
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
     _TimoshenkoProblem,
@@ -103,8 +108,10 @@ def test_invalid_parameters_name_the_parameter(kw, exc, match):
 def test_invalid_simulation_options_name_the_option(kw, match):
     p = params()
     opts = dict(velocity=1.0, preload=preload_for_normal_force(p, N0), friction=LAW, t_end_s=0.01)
+    opts.update(kw)
+    solver = {k: opts.pop(k) for k in ("rtol", "atol", "method") if k in opts}
     with pytest.raises(ValueError, match=match):
-        simulate_timoshenko(p, **{**opts, **kw})
+        simulate_timoshenko(p, solver=SolverOptions(**solver), **opts)
 
 
 def test_lever_arm_follows_eq_5_21_and_fig_5_12():
@@ -183,8 +190,7 @@ def test_free_vibration_after_release_rings_at_mode_one():
         t_end_s=0.01,
         n_output=4001,
         initial_tip_force_N=5.0,
-        rtol=1e-6,
-        atol=1e-9,
+        solver=SolverOptions(rtol=1e-6, atol=1e-9),
     )
     assert not res.data["contact"].any()
     t, x = res.data["time_s"].to_numpy(), res.data["tip_deflection_mm"].to_numpy()
@@ -229,7 +235,7 @@ def test_higher_velocity_gives_smaller_steady_deflection():
 def test_relative_velocity_uses_tip_deflection_velocity():
     # Eq. 5.23 corrected: v_rel = v0 - dr/dt(d), not v0 - dphi/dt(d)
     p = params()
-    res = sliding(p, t_end=0.03, n_output=3001, rtol=1e-7, atol=1e-10)
+    res = sliding(p, t_end=0.03, n_output=3001, solver=SolverOptions(rtol=1e-7, atol=1e-10))
     d = res.data
     t = d["time_s"].to_numpy()
     rdot = np.gradient(d["tip_deflection_mm"].to_numpy() * 1e-3, t)

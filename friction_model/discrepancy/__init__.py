@@ -1,6 +1,6 @@
 """The discrepancy workflow: find where model and measurement disagree, name the missing effect.
 
-Issue 6 of tir-contact. The thesis did this by hand twice (the velocity step of Fig. 5.7
+The thesis did this by hand twice (the velocity step of Fig. 5.7
 needed the friction relaxation of Eq. 5.12; the stick-slip frequency needed the frequency
 dependence of the rubber modulus, section 5.3.2); this package does it on data:
 
@@ -24,7 +24,8 @@ Public API
 :func:`thesis_stick_slip_problem`), :class:`Candidate`,
 :class:`ParameterSpec`, :func:`register_candidate`, :func:`unregister_candidate`,
 :func:`candidates`, :func:`get_candidate`, :func:`where_analysis`,
-:func:`residual_spectrum`, scores :func:`aicc`, :func:`bic`, :func:`chi_square`,
+:func:`residual_spectrum`, scores :func:`chi_square` and (from
+:mod:`friction_model.model_selection`) :func:`aicc_known_sigma`, :func:`bic_known_sigma`,
 :func:`reduced_chi_square`, resampling :func:`group_folds`,
 :func:`block_bootstrap_weights`.
 
@@ -60,12 +61,9 @@ from friction_model.discrepancy._problem import (
 )
 from friction_model.discrepancy._report import write_result
 from friction_model.discrepancy._scoring import (
-    aicc,
-    bic,
     block_bootstrap_weights,
     chi_square,
     group_folds,
-    reduced_chi_square,
 )
 from friction_model.discrepancy._where import residual_spectrum, where_analysis
 from friction_model.discrepancy._workflow import DiscrepancyResult, run_discrepancy
@@ -85,6 +83,11 @@ from friction_model.discrepancy.transient import (
     run_from_table,
     runs_from_elements,
 )
+from friction_model.model_selection import (
+    aicc_known_sigma,
+    bic_known_sigma,
+    reduced_chi_square,
+)
 
 __all__ = [
     "Candidate",
@@ -96,8 +99,8 @@ __all__ = [
     "StickSlipResult",
     "TransientProblem",
     "TransientRun",
-    "aicc",
-    "bic",
+    "aicc_known_sigma",
+    "bic_known_sigma",
     "block_bootstrap_weights",
     "candidates",
     "chi_square",

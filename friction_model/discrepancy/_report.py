@@ -33,6 +33,24 @@ def _save_figure(fig, path: Path) -> None:
 
 
 def _report_md(result: DiscrepancyResult) -> str:
+    """The text of report.md: verdict, effects, residual structure, rounds, scores, plots."""
+    lines = [
+        *_summary_lines(result),
+        *_effect_lines(result),
+        *_where_lines(result),
+        *_round_lines(result),
+        *_score_lines(result),
+        "",
+        "## Plots",
+        "",
+        *(f"![{name}]({name})" for name in PLOT_FILES),
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _summary_lines(result: DiscrepancyResult) -> list[str]:
+    """Title, verdict, data size, the gap before and after, effects not tried."""
     lines = [
         "# Discrepancy report",
         "",
@@ -53,7 +71,12 @@ def _report_md(result: DiscrepancyResult) -> str:
             "- not tried, this data cannot reveal them (they leave it exactly unchanged or "
             "the problem cannot evaluate them): " + ", ".join(result.not_revealable)
         )
-    lines += ["", "## Missing effects", ""]
+    return lines
+
+
+def _effect_lines(result: DiscrepancyResult) -> list[str]:
+    """The missing effects with their fitted parameters, intervals and bounds."""
+    lines = ["", "## Missing effects", ""]
     if not result.fitted:
         lines.append("None named.")
     for name, info in result.fitted.items():
@@ -63,7 +86,12 @@ def _report_md(result: DiscrepancyResult) -> str:
                 f", 95 % interval [{p['ci_lower']:.4g}, {p['ci_upper']:.4g}], "
                 f"bounds [{p['lower']:.4g}, {p['upper']:.4g}]"
             )
-    lines += ["", "## Where model and data disagree (before)", ""]
+    return lines
+
+
+def _where_lines(result: DiscrepancyResult) -> list[str]:
+    """Residual structure before the effects: one table row per covariate, spectra."""
+    lines = ["", "## Where model and data disagree (before)", ""]
     lines.append("| covariate | Spearman rho | p | significant ranges |")
     lines.append("|---|---|---|---|")
     for e in result.where["before"]["covariates"]:
@@ -83,13 +111,23 @@ def _report_md(result: DiscrepancyResult) -> str:
                 f"\nResidual spectrum ({key.split('_')[1]}): peak at {s['peak_Hz']:.4g} Hz, "
                 f"share {s['peak_share']:.3f}, Fisher p = {s['p_value']:.3g}"
             )
-    lines += ["", "## Rounds", ""]
+    return lines
+
+
+def _round_lines(result: DiscrepancyResult) -> list[str]:
+    """The decision of each round and the criteria of its best candidate."""
+    lines = ["", "## Rounds", ""]
     for r in result.rounds:
         lines.append(f"- round {r['round']} (current model: {r['current_model']}): {r['text']}")
         if "criteria" in r:
             crit = ", ".join(f"{k}={'yes' if v else 'no'}" for k, v in r["criteria"].items())
             lines.append(f"  - best candidate {r['best']}: {crit}")
-    lines += [
+    return lines
+
+
+def _score_lines(result: DiscrepancyResult) -> list[str]:
+    """The held-out score table (trends with dBIC < 0 left out)."""
+    lines = [
         "",
         "## Scores (held out)",
         "",
@@ -111,13 +149,8 @@ def _report_md(result: DiscrepancyResult) -> str:
     lines += [
         "",
         "Trend models with dBIC < 0 are left out of the table (they are in result.json).",
-        "",
-        "## Plots",
-        "",
-        *(f"![{name}]({name})" for name in PLOT_FILES),
-        "",
     ]
-    return "\n".join(lines)
+    return lines
 
 
 def _plots(result: DiscrepancyResult, out: Path) -> None:

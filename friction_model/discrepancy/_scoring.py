@@ -1,18 +1,16 @@
-"""Scores and resampling by group: chi-square, AICc, BIC, folds and block bootstrap."""
+"""Scores and resampling by group: chi-square, folds and block bootstrap.
+
+The information criteria (AICc, BIC) are in :mod:`friction_model.model_selection`.
+"""
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
 __all__ = [
-    "aicc",
-    "bic",
     "block_bootstrap_weights",
     "chi_square",
     "group_folds",
-    "reduced_chi_square",
 ]
 
 
@@ -30,38 +28,6 @@ def chi_square(
     if weights is None:
         return float(r @ r)
     return float(np.asarray(weights, float) @ (r * r))
-
-
-def aicc(chi2: float, k: int, n: int) -> float:
-    """Corrected Akaike criterion for Gaussian errors of known sigma.
-
-    ``AICc = chi2 + 2 k + 2 k (k + 1) / (n - k - 1)`` (``-2 ln L = chi2`` up to a constant
-    that cancels in every comparison on the same data).
-
-    Examples
-    --------
-    >>> round(aicc(10.0, 2, 13), 12)
-    15.2
-    """
-    if n - k - 1 <= 0:
-        return math.inf
-    return float(chi2 + 2.0 * k + 2.0 * k * (k + 1) / (n - k - 1))
-
-
-def bic(chi2: float, k: int, n: int) -> float:
-    """Bayesian information criterion for Gaussian errors of known sigma, ``chi2 + k ln n``.
-
-    Examples
-    --------
-    >>> round(bic(10.0, 2, 100), 6)
-    19.21034
-    """
-    return float(chi2 + k * math.log(n))
-
-
-def reduced_chi_square(chi2: float, n: int, k: int = 0) -> float:
-    """``chi2 / (n - k)`` (NaN when n <= k)."""
-    return float(chi2 / (n - k)) if n > k else math.nan
 
 
 def group_folds(groups: np.ndarray, n_folds: int, rng: np.random.Generator) -> np.ndarray:

@@ -37,13 +37,9 @@ from friction_model.discrepancy._problem import (
 from friction_model.discrepancy._problem import (
     candidates as registered_candidates,
 )
-from friction_model.discrepancy._scoring import (
-    aicc,
-    bic,
-    block_bootstrap_weights,
-    group_folds,
-)
+from friction_model.discrepancy._scoring import block_bootstrap_weights, group_folds
 from friction_model.discrepancy._where import residual_spectrum, where_analysis
+from friction_model.model_selection import aicc_known_sigma, bic_known_sigma
 
 __all__ = [
     "AICC_MARGIN",
@@ -294,10 +290,55 @@ def _decide(
     round_no: int,
 ) -> tuple[dict, list[dict]]:
     """Score table of one round and its decision."""
+    rows = _score_rows(problem, current, [current, *fits, *trends], pool, round_no)
+    phys = sorted([r for r in rows if r["kind"] == "candidate"], key=lambda r: r["aicc"])
+    trend_rows = sorted([r for r in rows if r["kind"] == "trend"], key=lambda r: r["aicc"])
+    best_trend = trend_rows[0] if trend_rows else None
+    nothing = _nothing_named(best_trend)
+    if not phys:
+        return nothing, rows
+    best = phys[0]
+    runner = phys[1] if len(phys) > 1 else None
+    criteria = _criteria(best, runner, best_trend)
+    best["criteria"] = criteria
+    decision: dict[str, Any] = {"best": best["name"], "criteria": criteria}
+    if not criteria["bic_improvement"]:
+        decision.update(nothing)
+    elif best_trend is not None and best_trend["aicc"] <= best["aicc"] - AICC_MARGIN:
+        decision.update(nothing)
+    elif not criteria["beats_runner_up"]:
+        decision.update(_ambiguous(best["name"], runner["name"], pool))
+    elif not criteria["beats_trends"]:
+        decision.update(nothing)
+    elif not criteria["bootstrap_wins"]:
+        others = {r["name"]: r["bootstrap_wins"] for r in phys[1:]}
+        other = max(others, key=others.get) if others else None
+        if other is not None and best["bootstrap_wins"] + others[other] >= BOOTSTRAP_WIN_SHARE:
+            decision.update(_ambiguous(best["name"], other, pool))
+        else:
+            decision.update(nothing)
+    elif not (criteria["inside_bounds"] and criteria["interval_excludes_null"]):
+        decision.update(nothing)
+    else:
+        decision.update({"outcome": "named", "text": f"missing effect: {best['name']}"})
+    return decision, rows
+
+
+def _score_rows(
+    problem: Problem,
+    current: ModelScores,
+    models: list[ModelScores],
+    pool: dict[str, Candidate],
+    round_no: int,
+) -> list[dict]:
+    """One row per model: held-out RSS, chi-square, AICc, BIC, their gains over the current
+    model, the share of bootstrap resamples it wins and (candidates) its parameters."""
     n = len(problem.y)
     y = np.asarray(problem.y, float)
-    models = [current, *fits, *trends]
-    crit = {m.name: (aicc(m.chi2_cv, m.k, n), bic(m.chi2_cv, m.k, n)) for m in models}
+    crit = {
+        m.name: (aicc_known_sigma(m.chi2_cv, m.k, n), bic_known_sigma(m.chi2_cv, m.k, n))
+        for m in models
+    }
     base_aicc, base_bic = crit[current.name]
     # bootstrap: the model with the lowest in-sample BIC of each resample wins it
     boot_bic = np.column_stack([m.boot_chi2 + m.k * math.log(n) for m in models])
@@ -322,52 +363,35 @@ def _decide(
             "parameters": [],
         }
         if m.kind == "candidate":
-            cand = pool[m.name]
-            lo, hi = _interval(m.boot_theta)
-            bounds = parameter_bounds(problem, cand)
-            for j, spec in enumerate(cand.parameters):
-                entry["parameters"].append(
-                    {
-                        "name": spec.name,
-                        "unit": spec.unit,
-                        "value": m.full.theta[j],
-                        "ci_lower": float(lo[j]),
-                        "ci_upper": float(hi[j]),
-                        "null": spec.null,
-                        "lower": bounds[j][0],
-                        "upper": bounds[j][1],
-                    }
-                )
+            entry["parameters"] = _parameter_rows(problem, pool[m.name], m)
         if m.kind == "trend":
             entry["covariate"] = m.extra["covariate"]
         rows.append(entry)
-    phys = sorted([r for r in rows if r["kind"] == "candidate"], key=lambda r: r["aicc"])
-    trend_rows = sorted([r for r in rows if r["kind"] == "trend"], key=lambda r: r["aicc"])
-    best_trend = trend_rows[0] if trend_rows else None
-    structured = best_trend is not None and best_trend["delta_bic"] >= BIC_IMPROVEMENT
+    return rows
 
-    def unexplained() -> dict:
-        return {
-            "outcome": "unexplained",
-            "covariate": best_trend["covariate"],
-            "text": f"unexplained residual: structured residual against {best_trend['covariate']}",
+
+def _parameter_rows(problem: Problem, cand: Candidate, scores: ModelScores) -> list[dict]:
+    """Fitted value, bootstrap interval, null and bounds of each parameter of a candidate."""
+    lo, hi = _interval(scores.boot_theta)
+    bounds = parameter_bounds(problem, cand)
+    return [
+        {
+            "name": spec.name,
+            "unit": spec.unit,
+            "value": scores.full.theta[j],
+            "ci_lower": float(lo[j]),
+            "ci_upper": float(hi[j]),
+            "null": spec.null,
+            "lower": bounds[j][0],
+            "upper": bounds[j][1],
         }
+        for j, spec in enumerate(cand.parameters)
+    ]
 
-    def nothing() -> dict:
-        return (
-            unexplained()
-            if structured
-            else {
-                "outcome": "none",
-                "text": "no missing effect found",
-            }
-        )
 
-    if not phys:
-        return nothing(), rows
-    best = phys[0]
-    runner = phys[1] if len(phys) > 1 else None
-    criteria = {
+def _criteria(best: dict, runner: dict | None, best_trend: dict | None) -> dict[str, bool]:
+    """The criteria a candidate must meet to be named (see :func:`run_discrepancy`)."""
+    return {
         "bic_improvement": best["delta_bic"] >= BIC_IMPROVEMENT,
         "beats_runner_up": runner is None or runner["aicc"] - best["aicc"] >= AICC_MARGIN,
         "beats_trends": best_trend is None or best_trend["aicc"] - best["aicc"] >= AICC_MARGIN,
@@ -382,42 +406,27 @@ def _decide(
         ),
         "bootstrap_wins": best["bootstrap_wins"] >= BOOTSTRAP_WIN_SHARE,
     }
-    best["criteria"] = criteria
-    decision: dict[str, Any] = {"best": best["name"], "criteria": criteria}
-    if not criteria["bic_improvement"]:
-        decision.update(nothing())
-    elif best_trend is not None and best_trend["aicc"] <= best["aicc"] - AICC_MARGIN:
-        decision.update(unexplained() if structured else nothing())
-    elif not criteria["beats_runner_up"]:
-        decision.update(
-            {
-                "outcome": "ambiguous",
-                "pair": [best["name"], runner["name"]],
-                "text": f"ambiguous: {best['name']} or {runner['name']} ("
-                f"{_measure_text(pool[best['name']], pool[runner['name']])})",
-            }
-        )
-    elif not criteria["beats_trends"]:
-        decision.update(unexplained() if structured else nothing())
-    elif not criteria["bootstrap_wins"]:
-        others = {r["name"]: r["bootstrap_wins"] for r in phys[1:]}
-        other = max(others, key=others.get) if others else None
-        if other is not None and best["bootstrap_wins"] + others[other] >= BOOTSTRAP_WIN_SHARE:
-            decision.update(
-                {
-                    "outcome": "ambiguous",
-                    "pair": [best["name"], other],
-                    "text": f"ambiguous: {best['name']} or {other} ("
-                    f"{_measure_text(pool[best['name']], pool[other])})",
-                }
-            )
-        else:
-            decision.update(nothing())
-    elif not (criteria["inside_bounds"] and criteria["interval_excludes_null"]):
-        decision.update(nothing())
-    else:
-        decision.update({"outcome": "named", "text": f"missing effect: {best['name']}"})
-    return decision, rows
+
+
+def _nothing_named(best_trend: dict | None) -> dict:
+    """Outcome when no candidate is named: a structured residual (the best generic trend
+    improves the BIC by :data:`BIC_IMPROVEMENT`) or nothing missing."""
+    if best_trend is not None and best_trend["delta_bic"] >= BIC_IMPROVEMENT:
+        return {
+            "outcome": "unexplained",
+            "covariate": best_trend["covariate"],
+            "text": f"unexplained residual: structured residual against {best_trend['covariate']}",
+        }
+    return {"outcome": "none", "text": "no missing effect found"}
+
+
+def _ambiguous(first: str, second: str, pool: dict[str, Candidate]) -> dict:
+    """Outcome of two candidates the data cannot tell apart, with what to measure."""
+    return {
+        "outcome": "ambiguous",
+        "pair": [first, second],
+        "text": f"ambiguous: {first} or {second} ({_measure_text(pool[first], pool[second])})",
+    }
 
 
 def weighted_rmse(y: np.ndarray, prediction: np.ndarray, sigma: np.ndarray) -> float:
@@ -579,8 +588,6 @@ def run_discrepancy(
     pool_list, skipped = _resolve(problem, candidates)
     for cand in pool_list:
         _check_null(problem, cand)
-    pool = {c.name: c for c in pool_list}
-    applies = {c.name: candidate_apply(c.name) for c in pool_list if candidate_apply(c.name)}
     gen = np.random.default_rng(seed)
     groups = np.asarray(problem.groups)
     folds = group_folds(groups, n_folds, gen)
@@ -588,127 +595,16 @@ def run_discrepancy(
     perm_seed = int(gen.integers(2**31))
     y = np.asarray(problem.y, float)
     sigma = np.asarray(problem.sigma, float)
-
-    accepted: dict[str, tuple[float, ...]] = {}
-    fitted: dict[str, dict] = {}
-
-    def current_scores() -> ModelScores:
-        ev = Evaluator(problem, accepted, None, applies)
-        k = problem.n_base + sum(len(p) for p in accepted.values())
-        label = "base model" if not accepted else "base + " + " + ".join(accepted)
-        return score_model(ev, label, "current", k, folds, boot, keep_predictions=True)
-
-    current = current_scores()
-    before = current.cv_prediction
-    after = before
-    rounds: list[dict] = []
-    table: list[dict] = []
-    final: dict | None = None
-    pending: tuple | None = None  # state before a look-ahead on an ambiguous pair
-    pending_decision: dict | None = None
-    round_no = 0
-    while True:
-        round_no += 1
-        remaining = [c for c in pool_list if c.name not in accepted]
-        if len(accepted) >= max_effects:
-            remaining = []
-        fits = _score_candidates(problem, accepted, remaining, applies, folds, boot, workers)
-        trends = score_trends(problem, current, folds, boot)
-        decision, rows = _decide(problem, current, fits, trends, pool, round_no)
-        if (
-            pending is not None
-            and decision["outcome"] != "named"
-            and decision.get("criteria", {}).get("bic_improvement", False)
-        ):
-            # look-ahead: the tentative effect was fitted alone and absorbed part of the
-            # second; refit both together (back-fitting) and score the round again
-            trial = {**accepted, decision["best"]: (0.0,) * len(pool[decision["best"]].null)}
-            trial[decision["best"]] = next(f for f in fits if f.name == decision["best"]).full.theta
-            refit, _, _ = _backfit(
-                problem,
-                trial,
-                _blank_fitted(trial, pool),
-                pool,
-                applies,
-                folds,
-                boot,
-                decision["best"],
-            )
-            accepted = {n: refit[n] for n in accepted}
-            current = current_scores()
-            fits = _score_candidates(problem, accepted, remaining, applies, folds, boot, workers)
-            trends = score_trends(problem, current, folds, boot)
-            decision, rows = _decide(problem, current, fits, trends, pool, round_no)
-            decision["refit_before_scoring"] = {n: list(p) for n, p in accepted.items()}
-        decision["round"] = round_no
-        decision["current_model"] = current.name
-        rounds.append(decision)
-        table.extend(rows)
-        logger.info("round %d: %s", round_no, decision["text"])
-        # two effects at once: the best candidate improves the fit strongly but a
-        # runner-up or a generic trend competes with it, because neither single effect
-        # explains both. Add the best tentatively; keep it only if the next round names
-        # a further effect with every criterion met.
-        tentative = (
-            decision["outcome"] in ("ambiguous", "unexplained")
-            and decision.get("criteria", {}).get("bic_improvement", False)
-            and len(accepted) + 2 <= max_effects
-            and pending is None
-        )
-        if decision["outcome"] != "named" and not tentative:
-            if pending is not None:
-                # the look-ahead did not name the other of the pair: undo it
-                accepted, fitted, after, current, rounds_kept = pending
-                rounds = rounds_kept
-                final = pending_decision
-                final["look_ahead_result"] = decision["text"]
-                final["look_ahead_criteria"] = decision.get("criteria")
-            else:
-                final = decision
-            break
-        name = decision["best"]
-        winner = next(f for f in fits if f.name == name)
-        row = next(r for r in rows if r["name"] == name)
-        if tentative:
-            # two candidates explain the data about equally well: both may be missing.
-            # Add the better one and see whether the next round names the other.
-            pending = (dict(accepted), dict(fitted), after, current, list(rounds))
-            pending_decision = decision
-            decision["look_ahead"] = f"added {name} to see whether a second effect is missing"
-        else:
-            pending = None
-        accepted[name] = winner.full.theta
-        fitted[name] = {"round": round_no, "parameters": row["parameters"]}
-        after = winner.cv_prediction
-        if len(accepted) > 1 and not tentative:
-            accepted, fitted, after = _backfit(
-                problem, accepted, fitted, pool, applies, folds, boot, name
-            )
-        current = current_scores()
-
-    if pending is not None and final is None:  # pragma: no cover - loop always sets final
-        final = pending_decision
-    names = list(accepted)
+    search = _Search(problem, pool_list, folds, boot, workers=workers, max_effects=max_effects)
+    final = search.run()
+    before, after = search.before, search.after
+    names = list(search.accepted)
     if names:
         head = ("missing effect: " if len(names) == 1 else "missing effects: ") + ", ".join(names)
         verdict = head if final["outcome"] == "none" else f"{head}; {final['text']}"
     else:
         verdict = final["text"]
-    r_before = (y - before) / sigma
-    r_after = (y - after) / sigma
-    where = {
-        "residual": "held-out residual / sigma",
-        "before": where_analysis(
-            r_before, problem.covariates, n_permutations=n_permutations, rng=perm_seed
-        ),
-        "after": where_analysis(
-            r_after, problem.covariates, n_permutations=n_permutations, rng=perm_seed
-        ),
-    }
-    if problem.kind == "transient" and "time_s" in problem.covariates:
-        t = problem.covariates["time_s"].to_numpy(float)
-        where["spectrum_before"] = residual_spectrum(r_before, t, groups)
-        where["spectrum_after"] = residual_spectrum(r_after, t, groups)
+    where = _where(problem, (y - before) / sigma, (y - after) / sigma, n_permutations, perm_seed)
     if final["outcome"] == "unexplained":
         giveaway = final["covariate"]
     elif where["before"]["covariates"]:
@@ -723,10 +619,10 @@ def run_discrepancy(
         gap_before=weighted_rmse(y, before, sigma),
         gap_after=weighted_rmse(y, after, sigma),
         where=where,
-        candidates=table,
-        rounds=rounds,
+        candidates=search.table,
+        rounds=search.rounds,
         gap=_gap(problem, before, after),
-        fitted=fitted,
+        fitted=search.fitted,
         not_revealable=skipped,
         giveaway=giveaway,
         y=y,
@@ -736,3 +632,203 @@ def run_discrepancy(
         prediction_before=before,
         prediction_after=after,
     )
+
+
+def _where(
+    problem: Problem,
+    r_before: np.ndarray,
+    r_after: np.ndarray,
+    n_permutations: int,
+    perm_seed: int,
+) -> dict:
+    """Structure of the held-out residuals / sigma before and after the missing effects
+    (and their spectra for transients)."""
+    where = {
+        "residual": "held-out residual / sigma",
+        "before": where_analysis(
+            r_before, problem.covariates, n_permutations=n_permutations, rng=perm_seed
+        ),
+        "after": where_analysis(
+            r_after, problem.covariates, n_permutations=n_permutations, rng=perm_seed
+        ),
+    }
+    if problem.kind == "transient" and "time_s" in problem.covariates:
+        t = problem.covariates["time_s"].to_numpy(float)
+        groups = np.asarray(problem.groups)
+        where["spectrum_before"] = residual_spectrum(r_before, t, groups)
+        where["spectrum_after"] = residual_spectrum(r_after, t, groups)
+    return where
+
+
+class _Search:
+    """The rounds of :func:`run_discrepancy`: score, decide, add the winner, repeat.
+
+    Holds the fixed context (problem, candidates, folds, resamples) and the state carried
+    from round to round: the accepted effects and their fits, the current model's scores,
+    the held-out prediction with the accepted effects (``after``), the rounds and score
+    rows so far, and a pending look-ahead on an ambiguous pair.
+    """
+
+    def __init__(
+        self,
+        problem: Problem,
+        pool_list: list[Candidate],
+        folds: np.ndarray,
+        boot: np.ndarray,
+        *,
+        workers: int,
+        max_effects: int,
+    ) -> None:
+        self.problem = problem
+        self.pool_list = pool_list
+        self.pool = {c.name: c for c in pool_list}
+        self.applies = {
+            c.name: candidate_apply(c.name) for c in pool_list if candidate_apply(c.name)
+        }
+        self.folds, self.boot = folds, boot
+        self.workers, self.max_effects = workers, max_effects
+        self.accepted: dict[str, tuple[float, ...]] = {}
+        self.fitted: dict[str, dict] = {}
+        self.rounds: list[dict] = []
+        self.table: list[dict] = []
+        self.pending: tuple | None = None  # state before a look-ahead on an ambiguous pair
+        self.pending_decision: dict | None = None
+        self.current = self.current_scores()
+        self.before = self.current.cv_prediction
+        self.after = self.before
+
+    def current_scores(self) -> ModelScores:
+        """Held-out scores of the base model with the accepted effects."""
+        ev = Evaluator(self.problem, self.accepted, None, self.applies)
+        k = self.problem.n_base + sum(len(p) for p in self.accepted.values())
+        label = "base model" if not self.accepted else "base + " + " + ".join(self.accepted)
+        return score_model(ev, label, "current", k, self.folds, self.boot, keep_predictions=True)
+
+    def run(self) -> dict:
+        """Rounds until one names no further effect; returns the final decision."""
+        round_no = 0
+        while True:
+            round_no += 1
+            fits, decision, rows = self._round(round_no)
+            self.rounds.append(decision)
+            self.table.extend(rows)
+            logger.info("round %d: %s", round_no, decision["text"])
+            # two effects at once: the best candidate improves the fit strongly but a
+            # runner-up or a generic trend competes with it, because neither single effect
+            # explains both. Add the best tentatively; keep it only if the next round names
+            # a further effect with every criterion met.
+            tentative = (
+                decision["outcome"] in ("ambiguous", "unexplained")
+                and decision.get("criteria", {}).get("bic_improvement", False)
+                and len(self.accepted) + 2 <= self.max_effects
+                and self.pending is None
+            )
+            if decision["outcome"] != "named" and not tentative:
+                return self._final(decision)
+            self._accept(decision, fits, rows, round_no, tentative=tentative)
+
+    def _round(self, round_no: int) -> tuple[list[ModelScores], dict, list[dict]]:
+        """Score the remaining candidates and the trends, and decide (after a look-ahead,
+        refit the tentative effect together with the new best first)."""
+        remaining = [c for c in self.pool_list if c.name not in self.accepted]
+        if len(self.accepted) >= self.max_effects:
+            remaining = []
+        fits, decision, rows = self._score(remaining, round_no)
+        if (
+            self.pending is not None
+            and decision["outcome"] != "named"
+            and decision.get("criteria", {}).get("bic_improvement", False)
+        ):
+            self._refit_with(decision["best"], fits)
+            fits, decision, rows = self._score(remaining, round_no)
+            decision["refit_before_scoring"] = {n: list(p) for n, p in self.accepted.items()}
+        decision["round"] = round_no
+        decision["current_model"] = self.current.name
+        return fits, decision, rows
+
+    def _score(
+        self, remaining: list[Candidate], round_no: int
+    ) -> tuple[list[ModelScores], dict, list[dict]]:
+        fits = _score_candidates(
+            self.problem,
+            self.accepted,
+            remaining,
+            self.applies,
+            self.folds,
+            self.boot,
+            self.workers,
+        )
+        trends = score_trends(self.problem, self.current, self.folds, self.boot)
+        decision, rows = _decide(self.problem, self.current, fits, trends, self.pool, round_no)
+        return fits, decision, rows
+
+    def _refit_with(self, best: str, fits: list[ModelScores]) -> None:
+        """Look-ahead: the tentative effect was fitted alone and absorbed part of the
+        second; refit both together (back-fitting) before the round is scored again."""
+        trial = {**self.accepted, best: (0.0,) * len(self.pool[best].null)}
+        trial[best] = next(f for f in fits if f.name == best).full.theta
+        refit, _, _ = _backfit(
+            self.problem,
+            trial,
+            _blank_fitted(trial, self.pool),
+            self.pool,
+            self.applies,
+            self.folds,
+            self.boot,
+            best,
+        )
+        self.accepted = {n: refit[n] for n in self.accepted}
+        self.current = self.current_scores()
+
+    def _final(self, decision: dict) -> dict:
+        """The last decision; a look-ahead that named nothing further is undone."""
+        if self.pending is None:
+            return decision
+        self.accepted, self.fitted, self.after, self.current, self.rounds = self.pending
+        final = self.pending_decision
+        final["look_ahead_result"] = decision["text"]
+        final["look_ahead_criteria"] = decision.get("criteria")
+        return final
+
+    def _accept(
+        self,
+        decision: dict,
+        fits: list[ModelScores],
+        rows: list[dict],
+        round_no: int,
+        *,
+        tentative: bool,
+    ) -> None:
+        """Add the round's best candidate at its fitted value (tentatively for a pair)."""
+        name = decision["best"]
+        winner = next(f for f in fits if f.name == name)
+        row = next(r for r in rows if r["name"] == name)
+        if tentative:
+            # two candidates explain the data about equally well: both may be missing.
+            # Add the better one and see whether the next round names the other.
+            self.pending = (
+                dict(self.accepted),
+                dict(self.fitted),
+                self.after,
+                self.current,
+                list(self.rounds),
+            )
+            self.pending_decision = decision
+            decision["look_ahead"] = f"added {name} to see whether a second effect is missing"
+        else:
+            self.pending = None
+        self.accepted[name] = winner.full.theta
+        self.fitted[name] = {"round": round_no, "parameters": row["parameters"]}
+        self.after = winner.cv_prediction
+        if len(self.accepted) > 1 and not tentative:
+            self.accepted, self.fitted, self.after = _backfit(
+                self.problem,
+                self.accepted,
+                self.fitted,
+                self.pool,
+                self.applies,
+                self.folds,
+                self.boot,
+                name,
+            )
+        self.current = self.current_scores()

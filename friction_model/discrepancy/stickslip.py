@@ -35,10 +35,21 @@ from typing import Any
 import numpy as np
 import pandas as pd
 import scipy.optimize
+from scipy.interpolate import PchipInterpolator
 
+from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.discrepancy._problem import get_candidate
 from friction_model.discrepancy.transient import MODULUS, RELAXATION
-from friction_model.dynamics.element_step import modulus_scaled_frequency_Hz
+from friction_model.dynamics.element_step import (
+    MODULUS_ALPHA,
+    MODULUS_F0_HZ,
+    modulus_scaled_frequency_Hz,
+)
+from friction_model.dynamics.stick_slip import (
+    K4_INTERVAL_S_PER_M,
+    PREDICTED_EXTRA_MODULUS_HZ,
+    PREDICTED_STICK_SLIP_HZ,
+)
 
 __all__ = [
     "PLAUSIBLE_EXTRA_MODULUS_STRENGTH",
@@ -66,9 +77,6 @@ def _extra_strength_of_loss_factor(loss_factor: float, frequency_Hz: float = 150
     Both are causal constant-loss solids, E(f) ~ f^n with tan(delta) = tan(n pi / 2); the
     extra factor (f / f0)^(n - n_ref) is matched by 1 + s alpha log10(f / f0).
     """
-    from friction_model.compound import REFERENCE_COMPOUND, Compound
-    from friction_model.dynamics.element_step import MODULUS_ALPHA, MODULUS_F0_HZ
-
     ref = REFERENCE_COMPOUND
     n_extra = Compound(loss_factor=loss_factor).modulus_exponent - ref.modulus_exponent
     ratio = (frequency_Hz / ref.reference_frequency_Hz) ** n_extra
@@ -240,8 +248,6 @@ class PredictedStickSlipProblem(StickSlipProblem):
         labels: Sequence[str] | None = None,
         max_plausible_strength: float | None = None,
     ) -> None:
-        from scipy.interpolate import PchipInterpolator
-
         keys = sorted(float(k) for k in limit_cycle_Hz)
         strengths = np.array(keys)
         freqs = np.array([float(limit_cycle_Hz[k]) for k in keys])
@@ -283,12 +289,6 @@ def predicted_stick_slip_problem() -> PredictedStickSlipProblem:
     :data:`PLAUSIBLE_EXTRA_MODULUS_STRENGTH` (a compound with tan(delta) > 0.3) are
     implausible.
     """
-    from friction_model.dynamics.stick_slip import (
-        K4_INTERVAL_S_PER_M,
-        PREDICTED_EXTRA_MODULUS_HZ,
-        PREDICTED_STICK_SLIP_HZ,
-    )
-
     f_lo, f_hi = (PREDICTED_STICK_SLIP_HZ[k] for k in K4_INTERVAL_S_PER_M)
     half_range = 0.5 * abs(f_hi - f_lo)
     sigma = math.sqrt((50.0 / math.sqrt(3.0)) ** 2 + (half_range / math.sqrt(3.0)) ** 2 + 5.0**2)

@@ -638,15 +638,6 @@ class TransientProblem:
         return cls(runs, grouping=grouping, block_edges_s=block_edges_s)
 
     # -- the model -----------------------------------------------------------------------
-    @property
-    def base_names(self) -> tuple[str, ...]:
-        """Names of the base parameters, in order: ``<run>:angle_before_deg``, ``..._after``."""
-        return tuple(
-            f"{r.label}:{side}"
-            for r in self.runs
-            for side in ("angle_before_deg", "angle_after_deg")
-        )
-
     def effect_parameters(self, effects: Mapping[str, Sequence[float]]) -> tuple[float, float]:
         """(tau_s, modulus strength) from an effects mapping (absent: 0).
 

@@ -2,7 +2,8 @@
 
 Public API
 ----------
-Inputs and results
+Inputs, solver and results
+    :class:`SolverOptions` (method, tolerances, largest step of every simulator),
     :func:`constant_velocity`, :func:`velocity_step`, :func:`velocity_ramp`,
     :func:`constant_preload`, :func:`surface_profile`, :class:`SimulationResult`,
     :class:`SimulationError`.
@@ -44,6 +45,7 @@ from friction_model.dynamics.rigid import (
     simulate_block_dynamics,
     simulate_sdof,
 )
+from friction_model.dynamics.solver import SolverOptions
 from friction_model.dynamics.stick_slip import predict_stick_slip
 from friction_model.dynamics.sweep import (
     dry_wet_point,
@@ -71,6 +73,7 @@ __all__ = [
     "SdofParams",
     "SimulationError",
     "SimulationResult",
+    "SolverOptions",
     "TimoshenkoParams",
     "beam_column_static",
     "buckling_load",

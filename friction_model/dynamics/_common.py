@@ -15,7 +15,6 @@ Conventions for every model in :mod:`friction_model.dynamics`:
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -23,13 +22,13 @@ from typing import Any
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
+from scipy.sparse import csc_matrix
 
 __all__ = [
     "Profile",
     "SimulationError",
     "SimulationResult",
     "batched_fd_jacobian",
-    "check_in_range",
     "constant_preload",
     "constant_velocity",
     "finite_rhs",
@@ -45,15 +44,6 @@ Profile = Callable[[float], float]
 
 class SimulationError(RuntimeError):
     """An integration that diverged or failed; the message says at which time and why."""
-
-
-def check_in_range(name: str, value: float, low: float, high: float, *, unit: str = "") -> float:
-    """Validate a model parameter before integration (ValueError names it and the range)."""
-    value = float(value)
-    if not math.isfinite(value) or not (low <= value <= high):
-        u = f" {unit}" if unit else ""
-        raise ValueError(f"{name} must lie in [{low:g}, {high:g}]{u}, got {name}={value!r}")
-    return value
 
 
 def output_times(t_end_s: float, step_s: float) -> np.ndarray:
@@ -106,7 +96,6 @@ def batched_fd_jacobian(
     pattern : (n, n) ndarray of bool, optional
         Sparsity pattern; when given the Jacobian is returned as a CSC matrix.
     """
-    from scipy.sparse import csc_matrix
 
     def jac(t: float, y: np.ndarray):
         h = 1.5e-8 * np.maximum(np.abs(y), floor)

@@ -58,10 +58,7 @@ __all__ = [
     "generalized_force",
     "ground_contact",
     "internal_forces",
-    "joints",
     "mass_matrix",
-    "material_point",
-    "point_jacobian",
     "sipe_contacts",
     "sipe_forces",
     "velocity_terms",
@@ -260,27 +257,6 @@ class Kinematics:
         jac_x = colx[..., None, :] * tril + (-s * cs - e * sn)[..., :, None] * eye
         jac_y = coly[..., None, :] * tril + (s * sn - e * cs)[..., :, None] * eye
         return x, y, jac_x, jac_y
-
-
-def joints(model: ChainModel, phi: np.ndarray) -> np.ndarray:
-    """Joint positions relative to each element's root, (..., N, nb+1, 2), m."""
-    kin = Kinematics(model, phi)
-    return np.stack([kin.jx, kin.jy], axis=-1)
-
-
-def material_point(
-    model: ChainModel, phi: np.ndarray, bar: int, s: ArrayLike, e: ArrayLike
-) -> np.ndarray:
-    """Position of the material point (s, e) of bar ``bar`` relative to the root, (..., N, 2)."""
-    return np.stack(Kinematics(model, phi).point(bar, np.asarray(s), np.asarray(e)), axis=-1)
-
-
-def point_jacobian(
-    model: ChainModel, phi: np.ndarray, bar: int, s: ArrayLike, e: ArrayLike
-) -> np.ndarray:
-    """dP/dphi_k of the material point (s, e) of bar ``bar``, (..., N, 2, nb), m/rad."""
-    jx, jy = Kinematics(model, phi).jacobian(bar, np.asarray(s), np.asarray(e))
-    return np.stack([jx, jy], axis=-2)
 
 
 def generalized_force(

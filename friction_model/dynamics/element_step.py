@@ -37,7 +37,6 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -58,8 +57,10 @@ __all__ = [
     "StepElement",
     "arm_storage_ratio",
     "element_natural_frequency_Hz",
+    "linear_step_states",
     "modulus_ratio",
     "modulus_scaled_frequency_Hz",
+    "sipe_block",
     "step_element",
     "step_response",
 ]
@@ -99,16 +100,6 @@ _ARM_FREQUENCIES_HZ = MODULUS_F0_HZ * 10.0 ** (np.arange(10) / 2.0)
 _ARM_FIT_MAX_HZ = 1.0e4
 
 
-def _check_strength(name: str, value: Any) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"effect strength {name} must be a number, got {value!r}") from None
-    if not math.isfinite(value) or value < 0:
-        raise ValueError(f"effect strength {name} must be a finite number >= 0, got {value!r}")
-    return value
-
-
 # -- rubber modulus and element frequency ----------------------------------------------------
 def modulus_ratio(frequency_Hz: float | np.ndarray, *, strength: float) -> float | np.ndarray:
     """E(f) / E0 of the ``frequency_dependent_modulus`` effect.
@@ -137,7 +128,7 @@ def modulus_ratio(frequency_Hz: float | np.ndarray, *, strength: float) -> float
     >>> round(modulus_ratio(1000.0, strength=1.0), 4)
     1.8681
     """
-    strength = _check_strength("frequency_dependent_modulus", strength)
+    strength = check_nonnegative("frequency_dependent_modulus", strength)
     f = np.asarray(frequency_Hz, dtype=float)
     if np.any(~np.isfinite(f)) or np.any(f <= 0):
         raise ValueError(f"frequency_Hz must be finite and > 0, got {frequency_Hz!r}")
@@ -236,7 +227,7 @@ def arm_storage_ratio(frequency_Hz: float | np.ndarray, *, strength: float) -> n
     >>> round(float(arm_storage_ratio(1000.0, strength=1.0)), 3)
     1.868
     """
-    strength = _check_strength("frequency_dependent_modulus", strength)
+    strength = check_nonnegative("frequency_dependent_modulus", strength)
     x = np.asarray(frequency_Hz, dtype=float)[..., None] / _ARM_FREQUENCIES_HZ
     return 1.0 + strength * (x**2 / (1.0 + x**2)) @ _arm_weights()
 
@@ -337,6 +328,7 @@ class StepElement:
 
 
 def _element(geometry: BlockGeometry, pressure_bar: float, modulus_strength: float) -> StepElement:
+    """The element of :func:`step_element` from already validated values."""
     ell = float(geometry.element_lengths[0]) * 1e-3
     width = geometry.width_mm * 1e-3
     height = geometry.height_mm * 1e-3
@@ -372,7 +364,23 @@ def _element(geometry: BlockGeometry, pressure_bar: float, modulus_strength: flo
     )
 
 
-def _geometry(n_sipes: int) -> BlockGeometry:
+def sipe_block(n_sipes: int) -> BlockGeometry:
+    """The 20 mm x 80 mm block with ``n_sipes`` sipes, the block family of the transient model.
+
+    Parameters
+    ----------
+    n_sipes : int
+        Number of sipes, >= 0 (3: G3, the block of chapter 5).
+
+    Returns
+    -------
+    BlockGeometry
+
+    Examples
+    --------
+    >>> sipe_block(3).n_elements
+    4
+    """
     if isinstance(n_sipes, bool) or int(n_sipes) != n_sipes or n_sipes < 0:
         raise ValueError(f"n_sipes must be an integer >= 0, got n_sipes={n_sipes!r}")
     return BlockGeometry(n_sipes=int(n_sipes))
@@ -408,13 +416,13 @@ def element_natural_frequency_Hz(
     >>> bool(element_natural_frequency_Hz(modulus_strength=1.0) > f0)
     True
     """
-    modulus_strength = _check_strength("frequency_dependent_modulus", modulus_strength)
+    modulus_strength = check_nonnegative("frequency_dependent_modulus", modulus_strength)
     check_positive("pressure_bar", pressure_bar)
-    return _element(_geometry(n_sipes), pressure_bar, modulus_strength).natural_frequency_Hz
+    return _element(sipe_block(n_sipes), pressure_bar, modulus_strength).natural_frequency_Hz
 
 
 # -- step response ---------------------------------------------------------------------------
-def _step_response(
+def linear_step_states(
     a: np.ndarray, b: np.ndarray, u1: float, u2: float, t: np.ndarray, t_step: float, dt: float
 ) -> np.ndarray:
     """States of x' = A x + B u through a step of u from u1 to u2 at t_step (exact).
@@ -423,6 +431,24 @@ def _step_response(
     stepped sample by sample with expm(A dt) on a uniform axis of spacing ``dt``. This is the
     form :func:`synthetic.measurements.make_transient_table` uses (its output bytes depend on
     it); :func:`step_response` gives the same within 1e-10 deg on any axis.
+
+    Parameters
+    ----------
+    a, b : ndarray
+        State matrix (n, n) and input vector (n,) of :meth:`StepElement.system`.
+    u1, u2 : float
+        Input (the steady friction coefficient) before and after the step.
+    t : (n_t,) ndarray
+        Uniformly spaced sample times, s.
+    t_step : float
+        Time of the step, s.
+    dt : float
+        Spacing of ``t``, s.
+
+    Returns
+    -------
+    (n_t, n) ndarray
+        The states at ``t``; column 0 is the deflection angle, rad.
     """
     x1 = -np.linalg.solve(a, b * u1)
     x2 = -np.linalg.solve(a, b * u2)
@@ -484,10 +510,10 @@ def step_element(
     >>> round(el.natural_frequency_Hz), round(el.angle_per_mu_deg, 1)
     (585, 35.5)
     """
-    modulus_strength = _check_strength("frequency_dependent_modulus", modulus_strength)
+    modulus_strength = check_nonnegative("frequency_dependent_modulus", modulus_strength)
     pressure_bar = check_positive("pressure_bar", pressure_bar)
     if geometry is None:
-        geometry = _geometry(n_sipes)
+        geometry = sipe_block(n_sipes)
     elif not isinstance(geometry, BlockGeometry):
         raise TypeError(f"geometry must be a BlockGeometry, got {type(geometry).__name__}")
     return _element(geometry, pressure_bar, modulus_strength)

@@ -35,6 +35,7 @@ import logging
 import math
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -47,7 +48,6 @@ from friction_model.dynamics._common import (
     Profile,
     SimulationResult,
     batched_fd_jacobian,
-    check_in_range,
     finite_rhs,
     output_times,
     raise_if_failed,
@@ -55,16 +55,16 @@ from friction_model.dynamics._common import (
 from friction_model.dynamics.rigid import (
     _G3_ELEMENT_LENGTH_M,
     _HEIGHT_M,
-    _METHODS,
     _WIDTH_M,
     REFERENCE_DENSITY_KG_M3,
     REFERENCE_LOSS_FACTOR,
     REFERENCE_YOUNGS_MODULUS_PA,
     _as_profile,
     _FrictionSet,
-    _positive,
     _sgn,
 )
+from friction_model.dynamics.solver import EULER_BERNOULLI_SOLVER, SolverOptions
+from tir_common.validate import check_positive, check_range
 
 logger = logging.getLogger(__name__)
 
@@ -121,20 +121,20 @@ class EulerBernoulliParams:
     axial_load: bool = True
 
     def __post_init__(self) -> None:
-        d = _positive("length_m", self.length_m, "m")
-        ell = _positive("element_length_m", self.element_length_m, "m")
-        w = _positive("width_m", self.width_m, "m")
-        e_mod = _positive("youngs_modulus_Pa", self.youngs_modulus_Pa, "Pa")
-        _positive("density_kg_m3", self.density_kg_m3, "kg/m^3")
-        check_in_range("loss_factor", self.loss_factor, 0.0, 2.0)
-        check_in_range("free_length_m", self.free_length_m, 0.0, math.inf, unit="m")
+        d = check_positive("length_m", self.length_m)
+        ell = check_positive("element_length_m", self.element_length_m)
+        w = check_positive("width_m", self.width_m)
+        e_mod = check_positive("youngs_modulus_Pa", self.youngs_modulus_Pa)
+        check_positive("density_kg_m3", self.density_kg_m3)
+        check_range("loss_factor", self.loss_factor, 0.0, 2.0)
+        check_range("free_length_m", self.free_length_m, 0.0, math.inf, unit="m")
         setv = object.__setattr__
         if self.contact_stiffness_N_m is None:
             setv(self, "contact_stiffness_N_m", e_mod * ell * w / d)
-        _positive("contact_stiffness_N_m", self.contact_stiffness_N_m, "N/m")
+        check_positive("contact_stiffness_N_m", self.contact_stiffness_N_m)
         if self.contact_offset_m is None:
             setv(self, "contact_offset_m", ell / 2)
-        check_in_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
+        check_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
         setv(self, "axial_load", bool(self.axial_load))
 
     @property
@@ -261,10 +261,7 @@ def simulate_euler_bernoulli(
     normal_force: float | Profile | None = None,
     preload: float | Profile | None = None,
     n_modes: int = 3,
-    method: str = "LSODA",
-    rtol: float = 1e-6,
-    atol: float = 1e-12,
-    max_step_s: float | None = None,
+    solver: SolverOptions | None = None,
     output_step_s: float | None = None,
     v_reg_mps: float = 1e-3,
     n_points: int = 25,
@@ -291,12 +288,13 @@ def simulate_euler_bernoulli(
         Simulated time, s.
     n_modes : int
         Number k of modes superposed.
-    method : {"LSODA", "Radau", "BDF"}
-        Implicit solver (high modes make the system stiff).
-    rtol, atol : float
-        Solver tolerances (modal coordinates in m).
-    max_step_s, output_step_s : float, optional
-        Largest solver step and output spacing (default t_end_s / 1000), s.
+    solver : SolverOptions, optional
+        Implicit solver (high modes make the system stiff), tolerances (modal coordinates
+        in m) and largest step; unset fields take
+        :data:`~friction_model.dynamics.solver.EULER_BERNOULLI_SOLVER` (LSODA, rtol 1e-6,
+        atol 1e-12).
+    output_step_s : float, optional
+        Output spacing (default t_end_s / 1000), s.
     v_reg_mps : float
         Velocity over which the friction direction is regularised, m/s.
     n_points : int
@@ -326,131 +324,176 @@ def simulate_euler_bernoulli(
     if not isinstance(params, EulerBernoulliParams):
         raise TypeError(f"params must be EulerBernoulliParams, got {type(params).__name__}")
     k = _check_modes(n_modes)
-    t_end = check_in_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {_METHODS} (implicit), got method={method!r}")
-    check_in_range("rtol", rtol, 1e-13, 1e-2)
-    check_in_range("atol", atol, 1e-18, 1e-2)
-    if max_step_s is not None:
-        check_in_range("max_step_s", max_step_s, 1e-12, t_end, unit="s")
+    t_end = check_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
+    opts = EULER_BERNOULLI_SOLVER.resolve(solver, t_end_s=t_end)
     out_step = t_end / 1000 if output_step_s is None else output_step_s
-    check_in_range("output_step_s", out_step, 1e-12, t_end, unit="s")
-    v_reg = check_in_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
+    check_range("output_step_s", out_step, 1e-12, t_end, unit="s")
+    v_reg = check_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
     if not isinstance(n_points, (int, np.integer)) or n_points < 2:
         raise ValueError(f"n_points must be an integer in [2, inf), got n_points={n_points!r}")
     _warn_eq_5_13(params, k)
-
-    vel = _as_profile("velocity", velocity)
-    if (preload is None) == (normal_force is None):
-        raise ValueError(
-            "give exactly one of normal_force (applied force, N) and preload (distance, m), "
-            f"got normal_force={normal_force!r}, preload={preload!r}"
-        )
-    pre = _as_profile("preload", preload) if preload is not None else (lambda t: float("nan"))
-    load = _as_profile("normal_force", normal_force) if normal_force is not None else None
-    fr = _FrictionSet("friction", friction, 1, allow_relaxed=True)
-    relaxed = bool(fr.index.size)
-
-    d = params.length_m
-    omega = _omegas(params, k)
-    zeta = params.loss_factor / 2
-    modal_mass = params.mass_per_length_kg_m * d
-    xg, wg = np.polynomial.legendre.leggauss(_N_GAUSS)
-    xg = 0.5 * (xg + 1.0) * d
-    _, dwg = eb_mode_shapes(params, k, xg)
-    geo = (dwg * (0.5 * d * wg)) @ dwg.T if params.axial_load else np.zeros((k, k))
-    w_tip, dw_tip = (a[:, 0] for a in eb_mode_shapes(params, k, np.array([d])))
-    e = float(params.contact_offset_m)
-    c_n = float(params.contact_stiffness_N_m)
-    area = params.element_length_m * params.width_m
-
-    def forces(q: np.ndarray, dq: np.ndarray, t: float) -> dict[str, np.ndarray]:
-        """Contact and friction for a batch of modal states q, dq (..., k)."""
-        v0, y0 = float(vel(t)), float(pre(t))
-        fore = 0.5 * np.einsum("...j,jk,...k->...", q, geo, q)
-        depth = d - fore + e * (q @ dw_tip)
-        if load is None:
-            u = params.free_length_m + depth - y0
-            fn = c_n * np.maximum(u, 0.0)
-        else:
-            fn = np.full(np.shape(depth), max(float(load(t)), 0.0))
-        v_rel = v0 - dq @ w_tip
-        pressure = fn / area
-        mu = fr.steady(np.abs(v_rel)[..., None], pressure[..., None])[..., 0]
-        return {"fn": fn, "v_rel": v_rel, "pressure": pressure, "mu": mu, "v0": v0, "y0": y0}
-
-    def rhs_batch(t: float, ys: np.ndarray) -> np.ndarray:
-        q, dq = ys[:, :k], ys[:, k : 2 * k]
-        f = forces(q, dq, t)
-        mu = ys[:, 2 * k] if relaxed else f["mu"]
-        ff = mu * f["fn"] * _sgn(f["v_rel"], v_reg)
-        gen = ff[:, None] * w_tip - f["fn"][:, None] * (e * dw_tip - q @ geo)
-        ddq = gen / modal_mass - 2 * zeta * omega * dq - omega**2 * q
-        parts = [dq, ddq]
-        if relaxed:
-            rate = fr.relax_rate(
-                ys[:, 2 * k : 2 * k + 1], np.abs(f["v_rel"])[:, None], f["pressure"][:, None]
-            )
-            parts.append(rate)
-        return np.concatenate(parts, axis=1)
-
-    rhs = finite_rhs(rhs_batch, "Euler-Bernoulli beam", "non-finite modal accelerations")
-    amp = max(abs(d - pre(0.0)), 1e-6) if load is None else max(float(load(0.0)) / c_n, 1e-6)
-    floor = np.concatenate(
-        [np.full(k, 1e-3 * amp), np.full(k, 1e-3 * amp * omega[0]), np.full(int(relaxed), 1e-3)]
-    )
-    jac = batched_fd_jacobian(rhs_batch, floor, "Euler-Bernoulli beam")
-
-    y_init = np.zeros(2 * k + int(relaxed))
-    if relaxed:
-        f0 = forces(y_init[None, :k], y_init[None, k : 2 * k], 0.0)
-        y_init[-1] = (
-            f0["mu"][0] if initial_mu is None else check_in_range("initial_mu", initial_mu, 0, 10)
-        )
-    t_eval = output_times(t_end, out_step)
-    opts: dict[str, Any] = {"rtol": rtol, "atol": atol, "jac": jac}
-    if max_step_s is not None:
-        opts["max_step"] = max_step_s
+    beam = _ModalBeam(params, k, velocity, friction, normal_force, preload, v_reg)
+    y_init = beam.initial_state(initial_mu)
     start = time.perf_counter()
-    sol = solve_ivp(rhs, (0.0, t_end), y_init, method=method, t_eval=t_eval, **opts)
+    sol = solve_ivp(
+        beam.rhs,
+        (0.0, t_end),
+        y_init,
+        t_eval=output_times(t_end, out_step),
+        jac=beam.jacobian(),
+        **opts.solve_ivp_options(),
+    )
     runtime = time.perf_counter() - start
     raise_if_failed(sol, "Euler-Bernoulli beam")
-
-    q, dq = sol.y[:k].T, sol.y[k : 2 * k].T
-    rows = [forces(q[i : i + 1], dq[i : i + 1], float(t)) for i, t in enumerate(sol.t)]
-    fn = np.array([r["fn"][0] for r in rows])
-    v_rel = np.array([r["v_rel"][0] for r in rows])
-    mu = sol.y[2 * k] if relaxed else np.array([r["mu"][0] for r in rows])
-    friction_force = mu * fn * _sgn(v_rel, v_reg)
-    x = np.linspace(0.0, d, int(n_points))
-    w_x, _ = eb_mode_shapes(params, k, x)
-    data = pd.DataFrame(
-        {
-            "time_s": sol.t,
-            "element": 0,
-            "tip_deflection_mm": q @ w_tip * 1e3,
-            "angle_deg": np.degrees(np.arctan(q @ dw_tip)),
-            "normal_force_N": fn,
-            "friction_force_N": friction_force,
-            "v_rel_mps": v_rel,
-            "mu": mu,
-            "contact": fn > 0,
-            "v0_mps": [r["v0"] for r in rows],
-            "preload_mm": np.array([r["y0"] for r in rows]) * 1e3,
-        }
-    )
-    fields = {"x_m": x, "w_m": q @ w_x, "q_m": q, "time_s": sol.t}
+    data, fields = beam.tidy(sol, int(n_points))
     meta = {
         "model": f"Euler-Bernoulli beam, {k} modes",
         "params": asdict(params),
         "n_modes": k,
-        "natural_frequencies_Hz": omega / (2 * math.pi),
-        "method": method,
-        "rtol": rtol,
-        "atol": atol,
+        "natural_frequencies_Hz": beam.omega / (2 * math.pi),
+        "method": opts.method,
+        "rtol": opts.rtol,
+        "atol": opts.atol,
         "nfev": int(sol.nfev),
         "runtime_s": runtime,
         "equations": "Eq. 5.1-5.4, 5.12, 5.13 with the clamped-free modes",
     }
     logger.debug("Euler-Bernoulli: %d rhs evaluations in %.2f s", sol.nfev, runtime)
     return SimulationResult(data=data, fields=fields, meta=meta)
+
+
+class _ModalBeam:
+    """The modal equations of :func:`simulate_euler_bernoulli` with their loads.
+
+    State ``y = [q (k), dq/dt (k), (mu_R)]``: modal coordinates q_k (m), their rates and,
+    for a :class:`~friction_model.contact.laws.RelaxedFriction`, mu_R (Eq. 5.12).
+    """
+
+    def __init__(
+        self,
+        params: EulerBernoulliParams,
+        k: int,
+        velocity: float | Profile,
+        friction: Any,
+        normal_force: float | Profile | None,
+        preload: float | Profile | None,
+        v_reg: float,
+    ) -> None:
+        if (preload is None) == (normal_force is None):
+            raise ValueError(
+                "give exactly one of normal_force (applied force, N) and preload (distance, m), "
+                f"got normal_force={normal_force!r}, preload={preload!r}"
+            )
+        self.params, self.k, self.v_reg = params, k, v_reg
+        self.vel = _as_profile("velocity", velocity)
+        self.pre = (
+            _as_profile("preload", preload) if preload is not None else (lambda t: float("nan"))
+        )
+        self.load = _as_profile("normal_force", normal_force) if normal_force is not None else None
+        self.fr = _FrictionSet("friction", friction, 1, allow_relaxed=True)
+        self.relaxed = bool(self.fr.index.size)
+        d = params.length_m
+        self.d = d
+        self.omega = _omegas(params, k)
+        self.zeta = params.loss_factor / 2
+        self.modal_mass = params.mass_per_length_kg_m * d
+        xg, wg = np.polynomial.legendre.leggauss(_N_GAUSS)
+        xg = 0.5 * (xg + 1.0) * d
+        _, dwg = eb_mode_shapes(params, k, xg)
+        self.geo = (dwg * (0.5 * d * wg)) @ dwg.T if params.axial_load else np.zeros((k, k))
+        self.w_tip, self.dw_tip = (a[:, 0] for a in eb_mode_shapes(params, k, np.array([d])))
+        self.e = float(params.contact_offset_m)
+        self.c_n = float(params.contact_stiffness_N_m)
+        self.area = params.element_length_m * params.width_m
+        self.rhs = finite_rhs(
+            self.rhs_batch, "Euler-Bernoulli beam", "non-finite modal accelerations"
+        )
+
+    def forces(self, q: np.ndarray, dq: np.ndarray, t: float) -> dict[str, np.ndarray]:
+        """Contact and friction for a batch of modal states q, dq (..., k)."""
+        v0, y0 = float(self.vel(t)), float(self.pre(t))
+        fore = 0.5 * np.einsum("...j,jk,...k->...", q, self.geo, q)
+        depth = self.d - fore + self.e * (q @ self.dw_tip)
+        if self.load is None:
+            u = self.params.free_length_m + depth - y0
+            fn = self.c_n * np.maximum(u, 0.0)
+        else:
+            fn = np.full(np.shape(depth), max(float(self.load(t)), 0.0))
+        v_rel = v0 - dq @ self.w_tip
+        pressure = fn / self.area
+        mu = self.fr.steady(np.abs(v_rel)[..., None], pressure[..., None])[..., 0]
+        return {"fn": fn, "v_rel": v_rel, "pressure": pressure, "mu": mu, "v0": v0, "y0": y0}
+
+    def rhs_batch(self, t: float, ys: np.ndarray) -> np.ndarray:
+        """Modal accelerations (and dmu_R/dt) for a batch of states ``ys`` (n_batch, n)."""
+        k = self.k
+        q, dq = ys[:, :k], ys[:, k : 2 * k]
+        f = self.forces(q, dq, t)
+        mu = ys[:, 2 * k] if self.relaxed else f["mu"]
+        ff = mu * f["fn"] * _sgn(f["v_rel"], self.v_reg)
+        gen = ff[:, None] * self.w_tip - f["fn"][:, None] * (self.e * self.dw_tip - q @ self.geo)
+        omega = self.omega
+        ddq = gen / self.modal_mass - 2 * self.zeta * omega * dq - omega**2 * q
+        parts = [dq, ddq]
+        if self.relaxed:
+            rate = self.fr.relax_rate(
+                ys[:, 2 * k : 2 * k + 1], np.abs(f["v_rel"])[:, None], f["pressure"][:, None]
+            )
+            parts.append(rate)
+        return np.concatenate(parts, axis=1)
+
+    def jacobian(self) -> Callable[[float, np.ndarray], Any]:
+        """Batched forward-difference Jacobian scaled by the static deflection."""
+        k = self.k
+        if self.load is None:
+            amp = max(abs(self.d - self.pre(0.0)), 1e-6)
+        else:
+            amp = max(float(self.load(0.0)) / self.c_n, 1e-6)
+        floor = np.concatenate(
+            [
+                np.full(k, 1e-3 * amp),
+                np.full(k, 1e-3 * amp * self.omega[0]),
+                np.full(int(self.relaxed), 1e-3),
+            ]
+        )
+        return batched_fd_jacobian(self.rhs_batch, floor, "Euler-Bernoulli beam")
+
+    def initial_state(self, initial_mu: float | None) -> np.ndarray:
+        """Rest, with mu_R at ``initial_mu`` or the steady value at t = 0."""
+        k = self.k
+        y_init = np.zeros(2 * k + int(self.relaxed))
+        if self.relaxed:
+            f0 = self.forces(y_init[None, :k], y_init[None, k : 2 * k], 0.0)
+            y_init[-1] = (
+                f0["mu"][0] if initial_mu is None else check_range("initial_mu", initial_mu, 0, 10)
+            )
+        return y_init
+
+    def tidy(self, sol: Any, n_points: int) -> tuple[pd.DataFrame, dict[str, np.ndarray]]:
+        """Result table and fields at the output times of ``sol``."""
+        k = self.k
+        q, dq = sol.y[:k].T, sol.y[k : 2 * k].T
+        rows = [self.forces(q[i : i + 1], dq[i : i + 1], float(t)) for i, t in enumerate(sol.t)]
+        fn = np.array([r["fn"][0] for r in rows])
+        v_rel = np.array([r["v_rel"][0] for r in rows])
+        mu = sol.y[2 * k] if self.relaxed else np.array([r["mu"][0] for r in rows])
+        friction_force = mu * fn * _sgn(v_rel, self.v_reg)
+        x = np.linspace(0.0, self.d, n_points)
+        w_x, _ = eb_mode_shapes(self.params, k, x)
+        data = pd.DataFrame(
+            {
+                "time_s": sol.t,
+                "element": 0,
+                "tip_deflection_mm": q @ self.w_tip * 1e3,
+                "angle_deg": np.degrees(np.arctan(q @ self.dw_tip)),
+                "normal_force_N": fn,
+                "friction_force_N": friction_force,
+                "v_rel_mps": v_rel,
+                "mu": mu,
+                "contact": fn > 0,
+                "v0_mps": [r["v0"] for r in rows],
+                "preload_mm": np.array([r["y0"] for r in rows]) * 1e3,
+            }
+        )
+        fields = {"x_m": x, "w_m": q @ w_x, "q_m": q, "time_s": sol.t}
+        return data, fields

@@ -81,13 +81,14 @@ from friction_model.dynamics._common import (
     SimulationError,
     SimulationResult,
     batched_fd_jacobian,
-    check_in_range,
     finite_rhs,
     output_times,
     raise_if_failed,
     surface_profile,
 )
+from friction_model.dynamics.solver import RIGID_SOLVER, SolverOptions
 from friction_model.geometry import reference_block
+from tir_common.validate import check_nonnegative, check_number, check_positive, check_range
 
 logger = logging.getLogger(__name__)
 
@@ -115,7 +116,6 @@ _SIPE_WIDTH_M = _G3.sipe_width_mm * 1e-3
 _SHEAR_COEFFICIENT = 6.0 / 7.0
 #: Standard gravity, m/s^2.
 _STANDARD_GRAVITY = 9.80665
-_METHODS = ("Radau", "BDF", "LSODA")
 
 
 #: E of the reference compound REF (Shore A 60, Table 4.3) by Gent's relation, Pa
@@ -128,17 +128,6 @@ REFERENCE_LOSS_FACTOR = REFERENCE_COMPOUND.loss_factor
 
 
 # -- parameter helpers ----------------------------------------------------------------------
-def _positive(name: str, value: float, unit: str) -> float:
-    value = float(value)
-    if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must lie in (0, inf) {unit}, got {name}={value!r}")
-    return value
-
-
-def _nonnegative(name: str, value: float, unit: str) -> float:
-    return check_in_range(name, value, 0.0, math.inf, unit=unit)
-
-
 def _cantilever_springs(
     height: float, n_bars: int, modulus: float, length: float, width: float
 ) -> np.ndarray:
@@ -189,9 +178,9 @@ def _per_element(name: str, value: Any, n: int, unit: str, *, positive: bool) ->
     arr = np.atleast_1d(np.asarray(value, dtype=float))
     if arr.shape not in ((1,), (n,)):
         raise ValueError(f"{name} must be a scalar or have {n} entries, got shape {arr.shape}")
-    check = _positive if positive else _nonnegative
     for i, v in enumerate(arr):
-        check(name if arr.size == 1 else f"{name}[{i}]", v, unit)
+        label = name if arr.size == 1 else f"{name}[{i}]"
+        check_number(label, v, low=0.0, low_open=positive, unit=unit)
     return np.broadcast_to(arr, (n,)).copy()
 
 
@@ -205,9 +194,8 @@ def _per_bar(name: str, value: Any, n: int, nb: int, unit: str, *, positive: boo
             f"{name} must be a scalar, ({nb},) per bar or ({n}, {nb}) per element and bar, "
             f"got shape {arr.shape}"
         ) from None
-    check = _positive if positive else _nonnegative
     for idx, v in np.ndenumerate(out):
-        check(f"{name}{list(idx)}", v, unit)
+        check_number(f"{name}{list(idx)}", v, low=0.0, low_open=positive, unit=unit)
     return out
 
 
@@ -265,31 +253,31 @@ class SdofParams:
     gravity_mps2: float = _STANDARD_GRAVITY
 
     def __post_init__(self) -> None:
-        d = _positive("length_m", self.length_m, "m")
-        ell = _positive("element_length_m", self.element_length_m, "m")
-        w = _positive("width_m", self.width_m, "m")
-        e_mod = _positive("youngs_modulus_Pa", self.youngs_modulus_Pa, "Pa")
-        rho = _positive("density_kg_m3", self.density_kg_m3, "kg/m^3")
-        eta = check_in_range("loss_factor", self.loss_factor, 0.0, 2.0)
-        _nonnegative("free_length_m", self.free_length_m, "m")
-        check_in_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
-        check_in_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
+        d = check_positive("length_m", self.length_m)
+        ell = check_positive("element_length_m", self.element_length_m)
+        w = check_positive("width_m", self.width_m)
+        e_mod = check_positive("youngs_modulus_Pa", self.youngs_modulus_Pa)
+        rho = check_positive("density_kg_m3", self.density_kg_m3)
+        eta = check_range("loss_factor", self.loss_factor, 0.0, 2.0)
+        check_nonnegative("free_length_m", self.free_length_m)
+        check_range("contact_offset_m", self.contact_offset_m, 0.0, ell / 2, unit="m")
+        check_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
         setv = object.__setattr__
         if self.mass_kg is None:
             setv(self, "mass_kg", rho * ell * w * d)
-        m = _positive("mass_kg", self.mass_kg, "kg")
+        m = check_positive("mass_kg", self.mass_kg)
         if self.inertia_kgm2 is None:
             setv(self, "inertia_kgm2", m * d**2 / 3 + m * ell**2 / 12)
-        j = _positive("inertia_kgm2", self.inertia_kgm2, "kg m^2")
+        j = check_positive("inertia_kgm2", self.inertia_kgm2)
         if self.spring_constant_Nm_rad is None:
             setv(self, "spring_constant_Nm_rad", float(_cantilever_springs(d, 1, e_mod, ell, w)[0]))
-        c = _positive("spring_constant_Nm_rad", self.spring_constant_Nm_rad, "N m/rad")
+        c = check_positive("spring_constant_Nm_rad", self.spring_constant_Nm_rad)
         if self.damping_constant_Nms_rad is None:
             setv(self, "damping_constant_Nms_rad", eta * c / math.sqrt(c / j))
-        _nonnegative("damping_constant_Nms_rad", self.damping_constant_Nms_rad, "N m s/rad")
+        check_nonnegative("damping_constant_Nms_rad", self.damping_constant_Nms_rad)
         if self.contact_stiffness_N_m is None:
             setv(self, "contact_stiffness_N_m", e_mod * ell * w / d)
-        _positive("contact_stiffness_N_m", self.contact_stiffness_N_m, "N/m")
+        check_positive("contact_stiffness_N_m", self.contact_stiffness_N_m)
         for name in self.__dataclass_fields__:
             setv(self, name, float(getattr(self, name)))
 
@@ -385,42 +373,76 @@ class BlockParams:
     gravity_mps2: float = _STANDARD_GRAVITY
 
     def __post_init__(self) -> None:
-        n = self.n_elements
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-            raise ValueError(f"n_elements must be an integer in [1, inf), got n_elements={n!r}")
-        nb = self.n_bars
-        if isinstance(nb, bool) or not isinstance(nb, (int, np.integer)) or nb < 1:
-            raise ValueError(f"n_bars must be an integer in [1, inf), got n_bars={nb!r}")
-        n, nb = int(n), int(nb)
-        h = _positive("height_m", self.height_m, "m")
-        w = _positive("width_m", self.width_m, "m")
-        e_mod = _positive("youngs_modulus_Pa", self.youngs_modulus_Pa, "Pa")
-        rho = _positive("density_kg_m3", self.density_kg_m3, "kg/m^3")
-        eta = check_in_range("loss_factor", self.loss_factor, 0.0, 2.0)
-        _nonnegative("free_length_m", self.free_length_m, "m")
-        check_in_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
+        n, nb = self._counts()
+        h = check_positive("height_m", self.height_m)
+        w = check_positive("width_m", self.width_m)
+        check_positive("youngs_modulus_Pa", self.youngs_modulus_Pa)
+        rho = check_positive("density_kg_m3", self.density_kg_m3)
+        check_range("loss_factor", self.loss_factor, 0.0, 2.0)
+        check_nonnegative("free_length_m", self.free_length_m)
+        check_range("gravity_mps2", self.gravity_mps2, 0.0, 100.0, unit="m/s^2")
         if self.contact_model not in ("edge", "face"):
             raise ValueError(
                 f"contact_model must be 'edge' or 'face', got contact_model={self.contact_model!r}"
             )
         sipes = _per_element("sipe_width_m", self.sipe_width_m, max(n - 1, 1), "m", positive=False)
         sipes = sipes[: n - 1]
-        if self.element_length_m is None:
-            block = _positive("block_length_m", self.block_length_m, "m")
-            rubber = block - sipes.sum()
-            if rubber <= 0:
-                raise ValueError(
-                    f"the sipes leave no rubber in block_length_m={block!r}: "
-                    f"sum(sipe_width_m)={sipes.sum()!r} must be < block_length_m"
-                )
-            ell = np.full(n, rubber / n)
-        else:
-            ell = _per_element("element_length_m", self.element_length_m, n, "m", positive=True)
+        ell = self._element_lengths(n, sipes)
         dbar = h / nb
         masses = rho * w * ell[:, None] * np.full((n, nb), dbar)
         inertias = masses * (dbar**2 + ell[:, None] ** 2) / 12.0
         bar_length = np.full(nb, dbar)
         L, grav = eom.bar_inertia_constants(masses, inertias, bar_length, self.gravity_mps2)
+        springs, dampers = self._springs_and_dampers(ell, L, n, nb)
+        c_n, c_s, offset = self._contact_constants(ell, n, nb)
+        spacing = ell[:-1] / 2 + sipes + ell[1:] / 2
+        chain = eom.ChainModel(
+            bar_length=bar_length,
+            L=L,
+            gravity=grav,
+            spring=springs,
+            damper=dampers,
+            elem_length=ell,
+            width=w,
+            root_x=-np.concatenate([[0.0], np.cumsum(spacing)]),
+            ground_stiffness=c_n,
+            free_length=float(self.free_length_m),
+            contact_model=self.contact_model,
+            contact_offset=offset,
+            sipe_stiffness=c_s,
+        )
+        object.__setattr__(self, "_chain", chain)
+
+    def _counts(self) -> tuple[int, int]:
+        """``n_elements`` and ``n_bars``, checked to be integers >= 1."""
+        for name in ("n_elements", "n_bars"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+                raise ValueError(f"{name} must be an integer in [1, inf), got {name}={v!r}")
+        return int(self.n_elements), int(self.n_bars)
+
+    def _element_lengths(self, n: int, sipes: np.ndarray) -> np.ndarray:
+        """Element lengths l_i, m: given, or the rubber of the block shared equally."""
+        if self.element_length_m is not None:
+            return _per_element("element_length_m", self.element_length_m, n, "m", positive=True)
+        block = check_positive("block_length_m", self.block_length_m)
+        rubber = block - sipes.sum()
+        if rubber <= 0:
+            raise ValueError(
+                f"the sipes leave no rubber in block_length_m={block!r}: "
+                f"sum(sipe_width_m)={sipes.sum()!r} must be < block_length_m"
+            )
+        return np.full(n, rubber / n)
+
+    def _springs_and_dampers(
+        self, ell: np.ndarray, L: np.ndarray, n: int, nb: int
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Torsional springs c_phi and dampers d_phi per element and bar, (n, nb) each.
+
+        Defaults: the cantilever-equivalent springs and stiffness-proportional dampers that
+        give the first mode the damping ratio tan(delta)/2 (module notes).
+        """
+        e_mod, w, h = float(self.youngs_modulus_Pa), float(self.width_m), float(self.height_m)
         if self.spring_constants_Nm_rad is None:
             springs = np.stack([_cantilever_springs(h, nb, e_mod, li, w) for li in ell])
         else:
@@ -434,7 +456,7 @@ class BlockParams:
             )
         if self.damping_constants_Nms_rad is None:
             omega = np.array([_first_frequency(springs[i], L[i]) for i in range(n)])
-            dampers = eta * springs / omega[:, None]
+            dampers = float(self.loss_factor) * springs / omega[:, None]
         else:
             dampers = _per_bar(
                 "damping_constants_Nms_rad",
@@ -444,6 +466,13 @@ class BlockParams:
                 "N m s/rad",
                 positive=False,
             )
+        return springs, dampers
+
+    def _contact_constants(
+        self, ell: np.ndarray, n: int, nb: int
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Ground penalty c_N (n,), sipe penalty c_S (n-1,), N/m, and contact offsets (n,), m."""
+        e_mod, w, h = float(self.youngs_modulus_Pa), float(self.width_m), float(self.height_m)
         if self.contact_stiffness_N_m is None:
             c_n = e_mod * ell * w / h
         else:
@@ -451,7 +480,7 @@ class BlockParams:
                 "contact_stiffness_N_m", self.contact_stiffness_N_m, n, "N/m", positive=True
             )
         if n > 1 and self.sipe_stiffness_N_m is None:
-            c_s = e_mod * w * dbar / (ell[:-1] + ell[1:])
+            c_s = e_mod * w * (h / nb) / (ell[:-1] + ell[1:])
         elif n > 1:
             c_s = _per_element(
                 "sipe_stiffness_N_m", self.sipe_stiffness_N_m, n - 1, "N/m", positive=True
@@ -459,30 +488,9 @@ class BlockParams:
         else:
             c_s = np.zeros(0)
         if self.contact_offset_m is None:
-            offset = ell / 2
-        else:
-            off = check_in_range(
-                "contact_offset_m", self.contact_offset_m, 0.0, ell.min() / 2, unit="m"
-            )
-            offset = np.full(n, off)
-        spacing = ell[:-1] / 2 + sipes + ell[1:] / 2
-        root_x = -np.concatenate([[0.0], np.cumsum(spacing)])
-        chain = eom.ChainModel(
-            bar_length=bar_length,
-            L=L,
-            gravity=grav,
-            spring=springs,
-            damper=dampers,
-            elem_length=ell,
-            width=w,
-            root_x=root_x,
-            ground_stiffness=c_n,
-            free_length=float(self.free_length_m),
-            contact_model=self.contact_model,
-            contact_offset=offset,
-            sipe_stiffness=c_s,
-        )
-        object.__setattr__(self, "_chain", chain)
+            return c_n, c_s, ell / 2
+        off = check_range("contact_offset_m", self.contact_offset_m, 0.0, ell.min() / 2, unit="m")
+        return c_n, c_s, np.full(n, off)
 
     def chain_model(self) -> eom.ChainModel:
         """The derived constants (masses, springs, dampers, stiffnesses) of all elements."""
@@ -578,26 +586,19 @@ class _FrictionSet:
 def _check_options(
     *,
     t_end_s: float,
-    method: str,
-    rtol: float,
-    atol: float,
-    max_step_s: float | None,
+    solver: SolverOptions | None,
     output_step_s: float | None,
     v_reg_mps: float,
     max_angle_deg: float,
-) -> tuple[float, float]:
-    t_end = check_in_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {_METHODS} (implicit), got method={method!r}")
-    check_in_range("rtol", rtol, 1e-13, 1e-2)
-    check_in_range("atol", atol, 1e-16, 1e-2)
-    if max_step_s is not None:
-        check_in_range("max_step_s", max_step_s, 1e-12, t_end, unit="s")
+) -> tuple[float, float, SolverOptions]:
+    """Validate the run options before any integration: t_end, output step and solver."""
+    t_end = check_range("t_end_s", t_end_s, 1e-9, 1e4, unit="s")
+    opts = RIGID_SOLVER.resolve(solver, t_end_s=t_end)
     out_step = t_end / 1000 if output_step_s is None else output_step_s
-    out_step = check_in_range("output_step_s", out_step, 1e-12, t_end, unit="s")
-    check_in_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
-    check_in_range("max_angle_deg", max_angle_deg, 1e-6, 90.0, unit="deg")
-    return t_end, out_step
+    out_step = check_range("output_step_s", out_step, 1e-12, t_end, unit="s")
+    check_range("v_reg_mps", v_reg_mps, 1e-9, 1.0, unit="m/s")
+    check_range("max_angle_deg", max_angle_deg, 1e-6, 90.0, unit="deg")
+    return t_end, out_step, opts
 
 
 # -- simulation core -------------------------------------------------------------------------
@@ -712,47 +713,42 @@ def _jac_sparsity(n: int, nb: int, n_relaxed_index: np.ndarray) -> lil_matrix:
     return sp
 
 
-def _simulate(
+def _make_inputs(
     model: eom.ChainModel,
-    *,
-    name: str,
     velocity: float | Profile,
     preload: Any,
     friction: Any,
     sipe_friction: Any,
-    t_end_s: float,
-    method: str,
-    rtol: float,
-    atol: float,
-    max_step_s: float | None,
-    output_step_s: float | None,
     v_reg_mps: float,
-    max_angle_deg: float,
-    initial_angles_rad: ArrayLike | None,
-    initial_rates_rad_s: ArrayLike | None,
-    initial_mu: float | None,
-    params: dict[str, Any],
-) -> SimulationResult:
-    n, nb = model.n_elements, model.n_bars
-    nq = n * nb
-    t_end, out_step = _check_options(
-        t_end_s=t_end_s,
-        method=method,
-        rtol=rtol,
-        atol=atol,
-        max_step_s=max_step_s,
-        output_step_s=output_step_s,
-        v_reg_mps=v_reg_mps,
-        max_angle_deg=max_angle_deg,
-    )
-    vel = _as_profile("velocity", velocity)
-    pre = _preloads(preload, n)
-    fr = _FrictionSet("friction", friction, n, allow_relaxed=True)
+) -> _Inputs:
+    """Velocity and preload profiles and the friction laws of the ground and the sipes."""
+    n = model.n_elements
     sfr = None
     if sipe_friction is not None and n > 1:
         sfr = _FrictionSet("sipe_friction", sipe_friction, n - 1, allow_relaxed=False)
-    inputs = _Inputs(vel, pre, fr, sfr, float(v_reg_mps))
+    return _Inputs(
+        _as_profile("velocity", velocity),
+        _preloads(preload, n),
+        _FrictionSet("friction", friction, n, allow_relaxed=True),
+        sfr,
+        float(v_reg_mps),
+    )
 
+
+def _initial_vector(
+    model: eom.ChainModel,
+    inputs: _Inputs,
+    initial_angles_rad: ArrayLike | None,
+    initial_rates_rad_s: ArrayLike | None,
+    initial_mu: float | None,
+    max_angle_deg: float,
+) -> np.ndarray:
+    """State at t = 0: bar angles, rates and mu_R of the relaxed contacts (Eq. 5.12).
+
+    mu_R starts at ``initial_mu`` or at the steady value of the initial state.
+    """
+    n, nb = model.n_elements, model.n_bars
+    fr = inputs.friction
     phi0 = np.zeros((n, nb))
     dphi0 = np.zeros((n, nb))
     if initial_angles_rad is not None:
@@ -771,14 +767,21 @@ def _simulate(
             mu_ss = fr.steady(np.abs(f0["v_rel"]), f0["pressure"])
             mu0 = mu_ss[fr.index]
         else:
-            mu0 = np.full(fr.index.size, check_in_range("initial_mu", initial_mu, 0.0, 10.0))
+            mu0 = np.full(fr.index.size, check_range("initial_mu", initial_mu, 0.0, 10.0))
     else:
         mu0 = np.zeros(0)
-    y_init = np.concatenate([phi0.ravel(), dphi0.ravel(), mu0])
-    limit = math.radians(max_angle_deg)
+    return np.concatenate([phi0.ravel(), dphi0.ravel(), mu0])
+
+
+def _batched_rhs(
+    model: eom.ChainModel, inputs: _Inputs
+) -> Callable[[float, np.ndarray], np.ndarray]:
+    """Right-hand side ``F(t, Y)`` for a batch of states ``Y`` (k, n_state) at one time."""
+    n, nb = model.n_elements, model.n_bars
+    nq = n * nb
+    fr = inputs.friction
 
     def rhs_batch(t: float, ys: np.ndarray) -> np.ndarray:
-        """Right-hand side for a batch of states ``ys`` (k, n_state) at one time."""
         k = ys.shape[0]
         phi = ys[:, :nq].reshape(k, n, nb)
         dphi = ys[:, nq : 2 * nq].reshape(k, n, nb)
@@ -791,6 +794,28 @@ def _simulate(
             parts.append(fr.relax_rate(mu_r, np.abs(f["v_rel"]), f["pressure"]))
         return np.concatenate(parts, axis=1)
 
+    return rhs_batch
+
+
+def _integrate(
+    model: eom.ChainModel,
+    inputs: _Inputs,
+    y_init: np.ndarray,
+    *,
+    name: str,
+    t_end: float,
+    out_step: float,
+    opts: SolverOptions,
+    max_angle_deg: float,
+) -> tuple[Any, float]:
+    """Integrate until ``t_end``; stop with :class:`SimulationError` at ``max_angle_deg``.
+
+    Returns the :func:`scipy.integrate.solve_ivp` solution and the wall time, s.
+    """
+    n, nb = model.n_elements, model.n_bars
+    nq = n * nb
+    fr = inputs.friction
+    rhs_batch = _batched_rhs(model, inputs)
     rhs = finite_rhs(
         rhs_batch,
         name,
@@ -801,8 +826,9 @@ def _simulate(
     # only to i-1, i, i+1 through the sipe contacts).
     floor = np.concatenate([np.full(nq, 1e-3), np.full(nq, 1.0), np.full(fr.index.size, 1e-3)])
     pattern = _jac_sparsity(n, nb, fr.index).toarray().astype(bool)
-    sparse_jac = method != "LSODA" and pattern.shape[0] > 60  # LSODA takes dense only
+    sparse_jac = opts.method != "LSODA" and pattern.shape[0] > 60  # LSODA takes dense only
     jac = batched_fd_jacobian(rhs_batch, floor, name, pattern=pattern if sparse_jac else None)
+    limit = math.radians(max_angle_deg)
 
     def too_large(t: float, y: np.ndarray) -> float:
         return limit - float(np.max(np.abs(y[:nq])))
@@ -810,13 +836,15 @@ def _simulate(
     too_large.terminal = True  # type: ignore[attr-defined]
 
     t_eval = output_times(t_end, out_step)
-    opts: dict[str, Any] = {"rtol": rtol, "atol": atol}
-    if max_step_s is not None:
-        opts["max_step"] = max_step_s
-    opts["jac"] = jac
     start = time.perf_counter()
     sol = solve_ivp(
-        rhs, (0.0, t_end), y_init, method=method, t_eval=t_eval, events=too_large, **opts
+        rhs,
+        (0.0, t_end),
+        y_init,
+        t_eval=t_eval,
+        events=too_large,
+        jac=jac,
+        **opts.solve_ivp_options(),
     )
     runtime = time.perf_counter() - start
     if sol.status == 1:
@@ -830,14 +858,57 @@ def _simulate(
         )
     raise_if_failed(sol, name)
     logger.debug("%s: %d rhs evaluations in %.2f s", name, sol.nfev, runtime)
+    return sol, runtime
 
+
+def _simulate(
+    model: eom.ChainModel,
+    *,
+    name: str,
+    velocity: float | Profile,
+    preload: Any,
+    friction: Any,
+    sipe_friction: Any,
+    t_end_s: float,
+    solver: SolverOptions | None,
+    output_step_s: float | None,
+    v_reg_mps: float,
+    max_angle_deg: float,
+    initial_angles_rad: ArrayLike | None,
+    initial_rates_rad_s: ArrayLike | None,
+    initial_mu: float | None,
+    params: dict[str, Any],
+) -> SimulationResult:
+    """Check the options, integrate the chain model and tabulate the result."""
+    t_end, out_step, opts = _check_options(
+        t_end_s=t_end_s,
+        solver=solver,
+        output_step_s=output_step_s,
+        v_reg_mps=v_reg_mps,
+        max_angle_deg=max_angle_deg,
+    )
+    inputs = _make_inputs(model, velocity, preload, friction, sipe_friction, v_reg_mps)
+    y_init = _initial_vector(
+        model, inputs, initial_angles_rad, initial_rates_rad_s, initial_mu, max_angle_deg
+    )
+    sol, runtime = _integrate(
+        model,
+        inputs,
+        y_init,
+        name=name,
+        t_end=t_end,
+        out_step=out_step,
+        opts=opts,
+        max_angle_deg=max_angle_deg,
+    )
     data, fields = _tidy(model, sol.t, sol.y, inputs)
+    n, nb = model.n_elements, model.n_bars
     meta = {
         "model": name,
         "params": params,
-        "method": method,
-        "rtol": rtol,
-        "atol": atol,
+        "method": opts.method,
+        "rtol": opts.rtol,
+        "atol": opts.atol,
         "nfev": int(sol.nfev),
         "njev": int(sol.njev),
         "nlu": int(sol.nlu),
@@ -911,10 +982,7 @@ def simulate_sdof(
     preload: float | Profile,
     friction: Any,
     t_end_s: float,
-    method: str = "LSODA",
-    rtol: float = 1e-6,
-    atol: float = 1e-9,
-    max_step_s: float | None = None,
+    solver: SolverOptions | None = None,
     output_step_s: float | None = None,
     v_reg_mps: float = 1e-3,
     max_angle_deg: float = 80.0,
@@ -947,12 +1015,11 @@ def simulate_sdof(
         law gets the nominal pressure F_N / (l w).
     t_end_s : float
         Simulated time, s.
-    method : {"Radau", "BDF", "LSODA"}
-        Implicit solver of :func:`scipy.integrate.solve_ivp` (the penalty contact is stiff).
-    rtol, atol : float
-        Solver tolerances (angles in rad, rates in rad/s).
-    max_step_s : float, optional
-        Largest solver step, s; set it below the shortest feature of the input profiles.
+    solver : SolverOptions, optional
+        Implicit solver of :func:`scipy.integrate.solve_ivp` (the penalty contact is stiff),
+        its tolerances (angles in rad, rates in rad/s) and largest step; unset fields take
+        :data:`~friction_model.dynamics.solver.RIGID_SOLVER` (LSODA, rtol 1e-6, atol 1e-9).
+        Set ``max_step_s`` below the shortest feature of the input profiles.
     output_step_s : float, optional
         Spacing of the output times, s; default t_end_s / 1000.
     v_reg_mps : float
@@ -988,10 +1055,7 @@ def simulate_sdof(
         friction=friction,
         sipe_friction=None,
         t_end_s=t_end_s,
-        method=method,
-        rtol=rtol,
-        atol=atol,
-        max_step_s=max_step_s,
+        solver=solver,
         output_step_s=output_step_s,
         v_reg_mps=v_reg_mps,
         max_angle_deg=max_angle_deg,
@@ -1010,10 +1074,7 @@ def simulate_block_dynamics(
     friction: Any,
     sipe_friction: Any = None,
     t_end_s: float,
-    method: str = "LSODA",
-    rtol: float = 1e-6,
-    atol: float = 1e-9,
-    max_step_s: float | None = None,
+    solver: SolverOptions | None = None,
     output_step_s: float | None = None,
     v_reg_mps: float = 1e-3,
     max_angle_deg: float = 80.0,
@@ -1038,7 +1099,7 @@ def simulate_block_dynamics(
         Friction between neighbours in each sipe (R_S = mu S, e.g. snow in the sipe); None:
         frictionless sipes (R_S = 0, as in Fig. 5.4-5.5). The law gets the contact pressure
         S / (w d_bar).
-    t_end_s, method, rtol, atol, max_step_s, output_step_s, v_reg_mps, max_angle_deg
+    t_end_s, solver, output_step_s, v_reg_mps, max_angle_deg
         As in :func:`simulate_sdof`.
     initial_angles_rad, initial_rates_rad_s : array_like, optional
         Initial bar angles (rad) and rates (rad/s), broadcast to (N, n_bars); default 0.
@@ -1073,10 +1134,7 @@ def simulate_block_dynamics(
         friction=friction,
         sipe_friction=sipe_friction,
         t_end_s=t_end_s,
-        method=method,
-        rtol=rtol,
-        atol=atol,
-        max_step_s=max_step_s,
+        solver=solver,
         output_step_s=output_step_s,
         v_reg_mps=v_reg_mps,
         max_angle_deg=max_angle_deg,

@@ -26,6 +26,11 @@ import numpy as np
 import scipy.linalg
 
 from friction_model.compound import REFERENCE_COMPOUND, Compound
+from friction_model.contact.laws import ArctanExponentialLaw, fit_law
+from friction_model.dynamics._common import velocity_ramp
+from friction_model.dynamics.element_step import modulus_ratio
+from friction_model.dynamics.timoshenko import TimoshenkoParams, _system, simulate_timoshenko
+from friction_model.identification.table_4_6 import table_4_6_targets
 
 logger = logging.getLogger(__name__)
 
@@ -36,6 +41,7 @@ __all__ = [
     "loaded_first_frequency_Hz",
     "loaded_mode_at_own_modulus_Hz",
     "predict_stick_slip",
+    "table_4_6_eq_5_24",
 ]
 
 #: Central value and interval of the zero-crossing steepness k4 of Eq. 5.24, s/m.
@@ -61,20 +67,27 @@ _V0_MPS = 1.0
 
 
 @lru_cache(maxsize=8)
-def _eq_5_24(k4: float) -> Any:
-    from friction_model.contact.laws import ArctanExponentialLaw, fit_law
-    from friction_model.identification.table_4_6 import table_4_6_targets
+def table_4_6_eq_5_24(k4_s_per_m: float = K4_CENTRAL_S_PER_M) -> ArctanExponentialLaw:
+    """Eq. 5.24 fitted to the cold/dry 2.5 bar characteristic of Table 4.6, k4 held fixed.
 
+    Parameters
+    ----------
+    k4_s_per_m : float
+        Zero-crossing steepness k4, s/m (not determined by Table 4.6, whose data start at
+        1 m/s; :data:`K4_INTERVAL_S_PER_M` spans it).
+
+    Returns
+    -------
+    friction_model.contact.laws.ArctanExponentialLaw
+    """
     rows = table_4_6_targets()
     rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
     return fit_law(
-        ArctanExponentialLaw, rows["velocity_mps"], rows["mu_target"], fixed={"k4": k4}
+        ArctanExponentialLaw, rows["velocity_mps"], rows["mu_target"], fixed={"k4": k4_s_per_m}
     ).law
 
 
-def _element(compound: Compound) -> Any:
-    from friction_model.dynamics.timoshenko import TimoshenkoParams
-
+def _element(compound: Compound) -> TimoshenkoParams:
     return TimoshenkoParams(
         E_Pa=compound.E0_Pa,
         density_kg_m3=compound.density_kg_m3,
@@ -89,8 +102,6 @@ def loaded_first_frequency_Hz(params: Any, normal_force_N: float) -> float:
     Eigenvalues of (K - N G) x = omega^2 M x with the finite-difference operators of
     ``params`` (Haringx by default; the tip free, as in sliding).
     """
-    from friction_model.dynamics.timoshenko import _system
-
     s = _system(params)
     w2 = scipy.linalg.eigvals((s.K - normal_force_N * s.G).toarray() / s.mass[:, None]).real
     return float(math.sqrt(np.min(w2[w2 > 0])) / (2.0 * math.pi))
@@ -144,10 +155,6 @@ def predict_stick_slip(
         ``amplitude_mm``, ``mean_deflection_mm``, ``linear_mode_Hz`` (fixed point of the
         loaded first mode), ``E_Pa``, ``kelvin_voigt_s``, ``normal_force_N``.
     """
-    from friction_model.dynamics._common import velocity_ramp
-    from friction_model.dynamics.element_step import modulus_ratio
-    from friction_model.dynamics.timoshenko import simulate_timoshenko
-
     base = _element(compound)
     N = _PRESSURE_PA * base.area_m2
     s_extra = float(extra_modulus_strength)
@@ -164,7 +171,7 @@ def predict_stick_slip(
         p,
         velocity=velocity_ramp(0.0, _V0_MPS, 0.0, 0.01),
         normal_force=N,
-        friction=_eq_5_24(float(k4_s_per_m)),
+        friction=table_4_6_eq_5_24(float(k4_s_per_m)),
         t_end_s=t_end_s,
         n_output=int(t_end_s * 2e5) + 1,
     )

@@ -12,33 +12,22 @@ import logging
 import os
 from collections.abc import Callable, Iterable, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from functools import lru_cache
 from itertools import product
 from typing import Any
 
 import pandas as pd
 
+from friction_model.compound import REFERENCE_COMPOUND
+from friction_model.conditions import Conditions
+from friction_model.contact.drywet import friction_table
+from friction_model.dynamics.stick_slip import table_4_6_eq_5_24
+from friction_model.dynamics.timoshenko import TimoshenkoParams, simulate_timoshenko
+from friction_model.geometry import reference_block
+from tir_common.progress import progress_bar
+
 logger = logging.getLogger(__name__)
 
-__all__ = ["dry_wet_point", "parameter_grid", "run_sweep", "table_4_6_eq_5_24", "timoshenko_point"]
-
-
-@lru_cache(maxsize=1)
-def table_4_6_eq_5_24():
-    """Eq. 5.24 fitted to the cold/dry 2.5 bar characteristic of Table 4.6 (k4 = 50 s/m).
-
-    Returns
-    -------
-    friction_model.contact.laws.ArctanExponentialLaw
-    """
-    from friction_model.contact.laws import ArctanExponentialLaw, fit_law
-    from friction_model.identification.table_4_6 import table_4_6_targets
-
-    rows = table_4_6_targets()
-    rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
-    return fit_law(
-        ArctanExponentialLaw, rows["velocity_mps"], rows["mu_target"], fixed={"k4": 50.0}
-    ).law
+__all__ = ["dry_wet_point", "parameter_grid", "run_sweep", "timoshenko_point"]
 
 
 def timoshenko_point(
@@ -62,9 +51,6 @@ def timoshenko_point(
         ``tip_deflection_mm, tip_slope_deg, bending_angle_deg, normal_force_N, mu,
         steps, wall_time_s`` (means over the last 20 % of the run).
     """
-    from friction_model.compound import REFERENCE_COMPOUND
-    from friction_model.dynamics.timoshenko import TimoshenkoParams, simulate_timoshenko
-
     E = E_MPa * 1e6
     params = TimoshenkoParams(
         E_Pa=E,
@@ -109,10 +95,6 @@ def dry_wet_point(
     dict
         ``mu``, ``regime``, ``run_in_length_first_mm``, ``run_in_length_last_mm``.
     """
-    from friction_model.conditions import Conditions
-    from friction_model.contact.drywet import friction_table
-    from friction_model.geometry import reference_block
-
     cond = Conditions.from_bar(
         velocity_mps,
         pressure_bar,
@@ -147,12 +129,6 @@ def _call(fn: Callable[..., Mapping[str, Any]], index: int, params: dict[str, An
         return index, out, ""
     except Exception as exc:  # one failed set must not stop the sweep; it is reported
         return index, {}, f"{type(exc).__name__}: {exc}"
-
-
-def _progress(total: int, enabled: bool | None):
-    from tqdm.auto import tqdm
-
-    return tqdm(total=total, desc="sweep", unit="run", disable=enabled is False)
 
 
 def run_sweep(
@@ -205,7 +181,7 @@ def run_sweep(
         raise ValueError(f"workers must be >= 1, got workers={workers!r}")
     if n == 0:
         return pd.DataFrame()
-    bar = _progress(n, progress)
+    bar = progress_bar(n, progress=progress, desc="sweep", unit="run")
     try:
         if scheduler == "serial" or (scheduler == "processes" and workers == 1):
             for i, p in enumerate(rows):

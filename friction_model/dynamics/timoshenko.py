@@ -105,7 +105,6 @@ from friction_model.dynamics._common import (
     Profile,
     SimulationError,
     SimulationResult,
-    check_in_range,
     constant_preload,
     constant_velocity,
 )
@@ -115,6 +114,8 @@ from friction_model.dynamics._timoshenko_fdm import (
     assemble,
     tip_slope,
 )
+from friction_model.dynamics.solver import TIMOSHENKO_SOLVER, SolverOptions
+from tir_common.validate import check_number, check_positive, check_range
 
 logger = logging.getLogger(__name__)
 
@@ -142,13 +143,24 @@ MIN_ASPECT_RATIO = 0.5
 #: Probe speed used to classify a friction law as odd (signed) or even, m/s.
 _PROBE_V = 1.0
 _SOLVERS = {"BDF": BDF, "Radau": Radau}
-
-
-def _real(name: str, value: Any) -> float:
-    """Float of a real number, TypeError naming the parameter otherwise."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}: {value!r}")
-    return float(value)
+#: Ranges (low, high, unit) of the scalar fields of :class:`TimoshenkoParams`, checked in
+#: this order; the fields in :data:`_OPTIONAL` may also be None.
+_BOUNDS: dict[str, tuple[float, float, str]] = {
+    "E_Pa": (1e3, 1e12, "Pa"),
+    "density_kg_m3": (100.0, 3e4, "kg/m^3"),
+    "kelvin_voigt_s": (0.0, 1.0, "s"),
+    "length_m": (1e-5, 1.0, "m"),
+    "width_m": (1e-5, 10.0, "m"),
+    "height_m": (1e-4, 1.0, "m"),
+    "contact_stiffness_N_m": (1.0, 1e12, "N/m"),
+    "spring_length_m": (0.0, 1.0, "m"),
+    "e1": (-1e3, 1e3, ""),
+    "e2_per_rad": (0.0, 1e4, "1/rad"),
+    "lever_arm_smoothing_rad": (1e-12, 0.1, "rad"),
+    "root_stiffness_Nm_per_rad": (1e-6, 1e9, "N m/rad"),
+    "friction_smoothing_mps": (1e-12, 1.0, "m/s"),
+}
+_OPTIONAL = frozenset({"contact_stiffness_N_m", "root_stiffness_Nm_per_rad"})
 
 
 def cowper_shear_coefficient(nu: float) -> float:
@@ -172,7 +184,7 @@ def cowper_shear_coefficient(nu: float) -> float:
     >>> cowper_shear_coefficient(0.5) == 6 / 7
     True
     """
-    nu = check_in_range("nu", _real("nu", nu), -1.0, 0.5)
+    nu = check_range("nu", nu, -1.0, 0.5)
     return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
 
 
@@ -268,114 +280,61 @@ class TimoshenkoParams:
     n_nodes: int = 40
 
     def __post_init__(self) -> None:
-        def put(name: str, value: Any) -> None:
-            object.__setattr__(self, name, value)
+        for name, (low, high, unit) in _BOUNDS.items():
+            value = getattr(self, name)
+            if value is not None or name not in _OPTIONAL:
+                object.__setattr__(self, name, check_range(name, value, low, high, unit=unit))
+            if name == "height_m":  # the defaults below need E, w, l and d
+                self._check_aspect_ratio()
+                if self.contact_stiffness_N_m is None:
+                    object.__setattr__(
+                        self,
+                        "contact_stiffness_N_m",
+                        self.E_Pa * self.width_m * self.length_m / self.height_m,
+                    )
+        self._check_shear()
+        self._check_lever_arm()
+        self._check_choices()
 
-        put("E_Pa", check_in_range("E_Pa", _real("E_Pa", self.E_Pa), 1e3, 1e12, unit="Pa"))
-        put(
-            "density_kg_m3",
-            check_in_range(
-                "density_kg_m3",
-                _real("density_kg_m3", self.density_kg_m3),
-                100.0,
-                3e4,
-                unit="kg/m^3",
-            ),
-        )
-        put(
-            "kelvin_voigt_s",
-            check_in_range(
-                "kelvin_voigt_s",
-                _real("kelvin_voigt_s", self.kelvin_voigt_s),
-                0.0,
-                1.0,
-                unit="s",
-            ),
-        )
-        if self.contact_stiffness_N_m is None:
-            put(
-                "contact_stiffness_N_m",
-                float(self.E_Pa)
-                * float(self.width_m)
-                * float(self.length_m)
-                / float(self.height_m),
-            )
-        put(
-            "contact_stiffness_N_m",
-            check_in_range(
-                "contact_stiffness_N_m",
-                _real("contact_stiffness_N_m", self.contact_stiffness_N_m),
-                1.0,
-                1e12,
-                unit="N/m",
-            ),
-        )
-        put(
-            "length_m",
-            check_in_range("length_m", _real("length_m", self.length_m), 1e-5, 1.0, unit="m"),
-        )
-        put(
-            "width_m",
-            check_in_range("width_m", _real("width_m", self.width_m), 1e-5, 10.0, unit="m"),
-        )
-        d = check_in_range("height_m", _real("height_m", self.height_m), 1e-4, 1.0, unit="m")
-        if d < MIN_ASPECT_RATIO * self.length_m:
+    def _check_aspect_ratio(self) -> None:
+        """A beam, not a pad: d >= :data:`MIN_ASPECT_RATIO` l (Eq. 5.14)."""
+        if self.height_m < MIN_ASPECT_RATIO * self.length_m:
             raise ValueError(
                 f"height_m must be >= {MIN_ASPECT_RATIO} * length_m = "
                 f"{MIN_ASPECT_RATIO * self.length_m:g} m for a beam-like element (Eq. 5.14), "
-                f"got height_m={d!r}"
+                f"got height_m={self.height_m!r}"
             )
-        put("height_m", d)
+
+    def _check_shear(self) -> None:
+        """G (Poisson's ratio nu = E/(2G) - 1 in [-0.99, 0.5]) and kappa in (0, 1]."""
         if self.G_Pa is not None:
-            g = _real("G_Pa", self.G_Pa)
-            if not math.isfinite(g) or g <= 0:
-                raise ValueError(f"G_Pa must be a finite number > 0, got G_Pa={g!r}")
+            g = check_positive("G_Pa", self.G_Pa)
             nu = self.E_Pa / (2.0 * g) - 1.0
             if not -0.99 <= nu <= 0.5:
                 raise ValueError(
                     f"G_Pa must lie in [E/3, E/0.02] = [{self.E_Pa / 3:g}, {self.E_Pa / 0.02:g}]"
                     f" Pa (Poisson's ratio nu = E/(2G) - 1 in [-0.99, 0.5]), got G_Pa={g!r}"
                 )
-            put("G_Pa", g)
+            object.__setattr__(self, "G_Pa", g)
         if self.shear_coefficient is not None:
-            k = _real("shear_coefficient", self.shear_coefficient)
-            if not math.isfinite(k) or not 0.0 < k <= 1.0:
-                raise ValueError(
-                    f"shear_coefficient must lie in (0, 1], got shear_coefficient={k!r}"
-                )
-            put("shear_coefficient", k)
-        put(
-            "spring_length_m",
-            check_in_range(
-                "spring_length_m",
-                _real("spring_length_m", self.spring_length_m),
-                0.0,
-                1.0,
-                unit="m",
-            ),
-        )
-        put("e1", check_in_range("e1", _real("e1", self.e1), -1e3, 1e3))
-        put(
-            "e2_per_rad",
-            check_in_range(
-                "e2_per_rad", _real("e2_per_rad", self.e2_per_rad), 0.0, 1e4, unit="1/rad"
-            ),
-        )
+            k = check_number(
+                "shear_coefficient", self.shear_coefficient, low=0.0, high=1.0, low_open=True
+            )
+            object.__setattr__(self, "shear_coefficient", k)
+
+    def _check_lever_arm(self) -> None:
+        """e3, e4 or a constant lever arm inside the contact, |e| <= l/2 (Eq. 5.21/5.22)."""
         half = 0.5 * self.length_m
         if (self.e3_m is None) != (self.e4_m is None):
             raise ValueError(
                 f"e3_m and e4_m must be given together, got e3_m={self.e3_m!r}, e4_m={self.e4_m!r}"
             )
         if self.e3_m is not None:
-            put("e3_m", check_in_range("e3_m", _real("e3_m", self.e3_m), -half, half, unit="m"))
-            put("e4_m", check_in_range("e4_m", _real("e4_m", self.e4_m), -half, half, unit="m"))
+            object.__setattr__(self, "e3_m", check_range("e3_m", self.e3_m, -half, half, unit="m"))
+            object.__setattr__(self, "e4_m", check_range("e4_m", self.e4_m, -half, half, unit="m"))
         if self.lever_arm_m is not None:
-            put(
-                "lever_arm_m",
-                check_in_range(
-                    "lever_arm_m", _real("lever_arm_m", self.lever_arm_m), -half, half, unit="m"
-                ),
-            )
+            arm = check_range("lever_arm_m", self.lever_arm_m, -half, half, unit="m")
+            object.__setattr__(self, "lever_arm_m", arm)
         elif self.e3_m is None and LEVER_ARM_MAX_FIG_5_12_M > half:
             raise ValueError(
                 f"the default lever arm of Fig. 5.12 a (up to 1.9 mm) exceeds length_m / 2 = "
@@ -391,16 +350,9 @@ class TimoshenkoParams:
                     f" the contact area |e| <= l/2 = {half:g} m for |phi| <= 90 deg, got e "
                     f"ranging over [{e_vals.min():g}, {e_vals.max():g}] m"
                 )
-        put(
-            "lever_arm_smoothing_rad",
-            check_in_range(
-                "lever_arm_smoothing_rad",
-                _real("lever_arm_smoothing_rad", self.lever_arm_smoothing_rad),
-                1e-12,
-                0.1,
-                unit="rad",
-            ),
-        )
+
+    def _check_choices(self) -> None:
+        """``foreshortening`` (bool), ``beam_column`` (a form) and ``n_nodes`` (3-2001)."""
         if not isinstance(self.foreshortening, bool):
             raise TypeError(
                 f"foreshortening must be a bool, got {type(self.foreshortening).__name__}"
@@ -410,34 +362,13 @@ class TimoshenkoParams:
                 f"beam_column must be one of {BEAM_COLUMN_FORMS}, "
                 f"got beam_column={self.beam_column!r}"
             )
-        if self.root_stiffness_Nm_per_rad is not None:
-            put(
-                "root_stiffness_Nm_per_rad",
-                check_in_range(
-                    "root_stiffness_Nm_per_rad",
-                    _real("root_stiffness_Nm_per_rad", self.root_stiffness_Nm_per_rad),
-                    1e-6,
-                    1e9,
-                    unit="N m/rad",
-                ),
-            )
-        put(
-            "friction_smoothing_mps",
-            check_in_range(
-                "friction_smoothing_mps",
-                _real("friction_smoothing_mps", self.friction_smoothing_mps),
-                1e-12,
-                1.0,
-                unit="m/s",
-            ),
-        )
         if isinstance(self.n_nodes, bool) or not isinstance(self.n_nodes, numbers.Integral):
             raise TypeError(
                 f"n_nodes must be an integer, got {type(self.n_nodes).__name__}: {self.n_nodes!r}"
             )
         if not 3 <= int(self.n_nodes) <= 2001:
             raise ValueError(f"n_nodes must lie in [3, 2001], got n_nodes={self.n_nodes!r}")
-        put("n_nodes", int(self.n_nodes))
+        object.__setattr__(self, "n_nodes", int(self.n_nodes))
 
     # -- derived quantities --------------------------------------------------------------
     @property
@@ -570,9 +501,7 @@ def preload_for_normal_force(params: TimoshenkoParams, normal_force_N: float) ->
     >>> round(preload_for_normal_force(p, 50.0) * 1e3, 6)
     5.95
     """
-    f = check_in_range(
-        "normal_force_N", _real("normal_force_N", normal_force_N), 0.0, 1e9, unit="N"
-    )
+    f = check_range("normal_force_N", normal_force_N, 0.0, 1e9, unit="N")
     return params.spring_length_m + params.height_m - f / params.contact_stiffness_N_m
 
 
@@ -595,8 +524,8 @@ def static_tip_deflection(
     >>> round(static_tip_deflection(p, 10.0) * 1e3, 4)
     0.5745
     """
-    P = _real("force_N", force_N)
-    M = _real("moment_Nm", moment_Nm)
+    P = check_number("force_N", force_N)
+    M = check_number("moment_Nm", moment_Nm)
     d = params.height_m
     out = P * d**3 / (3.0 * params.EI) + P * d / params.kGA + M * d**2 / (2.0 * params.EI)
     if params.root_stiffness_Nm_per_rad is not None:
@@ -648,9 +577,9 @@ def beam_column_static(
             "beam_column_static needs beam_column 'haringx' or 'engesser', "
             f"got {params.beam_column!r}"
         )
-    P = _real("force_N", force_N)
-    M = _real("moment_Nm", moment_Nm)
-    N = _real("axial_force_N", axial_force_N)
+    P = check_number("force_N", force_N)
+    M = check_number("moment_Nm", moment_Nm)
+    N = check_number("axial_force_N", axial_force_N)
     if not 0.0 < N < buckling_load(params):
         raise ValueError(
             f"axial_force_N must lie in (0, buckling load {buckling_load(params):g} N), got {N!r}"
@@ -771,9 +700,9 @@ def fdm_static_deflection(
     x_m, r_m, phi_rad : (n_nodes,) ndarray
         Node positions, deflection and rotation (root included).
     """
-    P = _real("force_N", force_N)
-    M = _real("moment_Nm", moment_Nm)
-    N = _real("axial_force_N", axial_force_N)
+    P = check_number("force_N", force_N)
+    M = check_number("moment_Nm", moment_Nm)
+    N = check_number("axial_force_N", axial_force_N)
     sysm = _system(params)
     f = np.zeros(sysm.n_u)
     f[sysm.tip_r] = P
@@ -974,7 +903,7 @@ def _as_profile(name: str, value: Profile | float, factory: Callable[[float], Pr
     if callable(value):
         out = value
     else:
-        factory_value = check_in_range(name, _real(name, value), -1e6, 1e6)
+        factory_value = check_range(name, value, -1e6, 1e6)
         out = factory(factory_value)
     v = out(0.0)
     if not math.isfinite(float(v)):
@@ -1042,7 +971,7 @@ class _TimoshenkoProblem:
         self.njev = 0
 
         y = np.zeros(self.dim)
-        f_init = _real("initial_tip_force_N", initial_tip_force_N)
+        f_init = check_number("initial_tip_force_N", initial_tip_force_N)
         if f_init != 0.0:
             f = np.zeros(self.n2)
             f[self.ir] = f_init
@@ -1051,7 +980,7 @@ class _TimoshenkoProblem:
             if mu_initial is None:
                 n0 = self.normal_force(0.0, y[: self.n2])[0]
                 mu_initial = self.fr.scalar(self.v0(0.0) - y[self.n2 + self.ir], n0)
-            y[-1] = check_in_range("mu_initial", _real("mu_initial", mu_initial), -10.0, 10.0)
+            y[-1] = check_range("mu_initial", mu_initial, -10.0, 10.0)
         self.y_init = y
         self._build_pattern()
 
@@ -1275,13 +1204,10 @@ def simulate_timoshenko(
     normal_force: Profile | float | None = None,
     preload: Profile | float | None = None,
     n_output: int = 1001,
-    rtol: float = 1e-5,
-    atol: float = 1e-7,
-    method: str = "BDF",
+    solver: SolverOptions | None = None,
     temperature_C: float | None = None,
     mu_initial: float | None = None,
     initial_tip_force_N: float = 0.0,
-    max_step_s: float | None = None,
 ) -> SimulationResult:
     """Simulate one Timoshenko tread-block element sliding on ice (section 5.3).
 
@@ -1309,14 +1235,12 @@ def simulate_timoshenko(
         Simulated time, s, in (0, 100].
     n_output : int
         Output samples, uniformly spaced over [0, t_end_s], in [2, 10^6].
-    rtol : float
-        Relative tolerance of the time integration, in [1e-10, 0.1].
-    atol : float
-        Absolute tolerance in units of the scales d (deflection), 1 rad (rotation),
-        v_s (velocity, v_s = max(1 m/s, |v0(0)|)), v_s / d (rad/s) and 1 (mu); in
-        [1e-14, 0.01].
-    method : {"BDF", "Radau"}
-        Implicit integrator of :mod:`scipy.integrate`.
+    solver : SolverOptions, optional
+        Implicit integrator of :mod:`scipy.integrate` (``"BDF"`` or ``"Radau"``), relative
+        tolerance in [1e-10, 0.1], absolute tolerance in [1e-14, 0.01] in units of the
+        scales d (deflection), 1 rad (rotation), v_s (velocity, v_s = max(1 m/s, |v0(0)|)),
+        v_s / d (rad/s) and 1 (mu), and largest time step (s); unset fields take
+        :data:`~friction_model.dynamics.solver.TIMOSHENKO_SOLVER` (BDF, rtol 1e-5, atol 1e-7).
     temperature_C : float, optional
         Passed to the friction law.
     mu_initial : float, optional
@@ -1324,8 +1248,6 @@ def simulate_timoshenko(
     initial_tip_force_N : float
         Start from the static deflection under this tip force instead of rest (release test
         of section 5.4); default 0, the rest state of Eq. 5.30.
-    max_step_s : float, optional
-        Largest time step, s.
 
     Returns
     -------
@@ -1350,49 +1272,70 @@ def simulate_timoshenko(
     """
     if not isinstance(params, TimoshenkoParams):
         raise TypeError(f"params must be a TimoshenkoParams, got {type(params).__name__}")
-    t_end = check_in_range("t_end_s", _real("t_end_s", t_end_s), 1e-9, 100.0, unit="s")
+    t_end = check_range("t_end_s", t_end_s, 1e-9, 100.0, unit="s")
     if isinstance(n_output, bool) or not isinstance(n_output, numbers.Integral):
         raise TypeError(f"n_output must be an integer, got {type(n_output).__name__}")
     if not 2 <= int(n_output) <= 1_000_000:
         raise ValueError(f"n_output must lie in [2, 1000000], got n_output={n_output!r}")
-    rtol = check_in_range("rtol", _real("rtol", rtol), 1e-10, 0.1)
-    atol = check_in_range("atol", _real("atol", atol), 1e-14, 0.01)
-    if method not in _SOLVERS:
-        raise ValueError(f"method must be one of {sorted(_SOLVERS)}, got method={method!r}")
-    max_step = np.inf
-    if max_step_s is not None:
-        max_step = check_in_range(
-            "max_step_s", _real("max_step_s", max_step_s), 1e-12, t_end, unit="s"
-        )
+    opts = TIMOSHENKO_SOLVER.resolve(solver, t_end_s=t_end)
     if temperature_C is not None:
-        temperature_C = check_in_range(
-            "temperature_C", _real("temperature_C", temperature_C), -273.15, 1e3, unit="degC"
-        )
+        temperature_C = check_range("temperature_C", temperature_C, -273.15, 1e3, unit="degC")
     v0 = _as_profile("velocity", velocity, constant_velocity)
     if (preload is None) == (normal_force is None):
         raise ValueError(
             "give exactly one of normal_force (applied force, N) and preload (distance, m), "
             f"got normal_force={normal_force!r}, preload={preload!r}"
         )
-    y0 = None if preload is None else _as_profile("preload", preload, constant_preload)
-    n_f = (
-        None
-        if normal_force is None
-        else _as_profile("normal_force", normal_force, constant_preload)
-    )
-
     prob = _TimoshenkoProblem(
         params,
         velocity=v0,
-        preload=y0,
-        normal_force=n_f,
+        preload=None if preload is None else _as_profile("preload", preload, constant_preload),
+        normal_force=(
+            None
+            if normal_force is None
+            else _as_profile("normal_force", normal_force, constant_preload)
+        ),
         friction=friction,
         temperature_C=temperature_C,
         mu_initial=mu_initial,
         initial_tip_force_N=initial_tip_force_N,
     )
-    m, n2, d = prob.m, prob.n2, params.height_m
-    v_s = max(1.0, abs(float(v0(0.0))))
+    t_out = np.linspace(0.0, t_end, int(n_output))
+    wall0 = time.perf_counter()
+    Y, stepper, n_steps = _integrate(
+        prob, t_out, opts, velocity_scale=max(1.0, abs(float(v0(0.0))))
+    )
+    wall = time.perf_counter() - wall0
+    data, fields = prob.columns(t_out, Y)
+    meta = {
+        "model": "timoshenko",
+        "params": asdict(params),
+        "load": "preload distance" if preload is not None else "applied normal force",
+        "friction": repr(friction),
+        "method": opts.method,
+        "rtol": opts.rtol,
+        "atol": opts.atol,
+        "n_steps": n_steps,
+        "nfev": prob.nfev,
+        "njev": prob.njev,
+        "nlu": int(getattr(stepper, "nlu", 0)),
+        "wall_time_s": wall,
+    }
+    logger.debug("Timoshenko simulation: %d steps, %d f-evals, %.3g s", n_steps, prob.nfev, wall)
+    return SimulationResult(data=data, fields=fields, meta=meta)
+
+
+def _integrate(
+    prob: _TimoshenkoProblem, t_out: np.ndarray, opts: SolverOptions, *, velocity_scale: float
+) -> tuple[np.ndarray, Any, int]:
+    """Step ``prob`` to ``t_out[-1]``, filling the states at ``t_out`` from the dense output.
+
+    The absolute tolerance is scaled per state (``solver`` of :func:`simulate_timoshenko`);
+    every step is checked by :func:`_check_step`. Returns the states (n_out, dim), the
+    stepper and the number of steps.
+    """
+    m, n2, d = prob.m, prob.n2, prob.params.height_m
+    v_s = velocity_scale
     scale = np.concatenate(
         [
             np.full(m, d),
@@ -1402,69 +1345,59 @@ def simulate_timoshenko(
             np.ones(prob.dim - 2 * n2),
         ]
     )
-    t_out = np.linspace(0.0, t_end, int(n_output))
     Y = np.empty((t_out.size, prob.dim))
     Y[0] = prob.y_init
     k_out = 1
-    solver = _SOLVERS[method](
+    stepper = _SOLVERS[opts.method](
         prob.fun,
         0.0,
         prob.y_init.copy(),
-        t_end,
-        rtol=rtol,
-        atol=atol * scale,
+        float(t_out[-1]),
+        rtol=opts.rtol,
+        atol=opts.atol * scale,
         jac=prob.jac,
-        max_step=max_step,
+        max_step=np.inf if opts.max_step_s is None else opts.max_step_s,
     )
-    wall0 = time.perf_counter()
     n_steps = 0
-    while solver.status == "running":
+    while stepper.status == "running":
         try:
-            message = solver.step()
+            message = stepper.step()
         except SimulationError:
             raise
         except (ArithmeticError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
             raise SimulationError(
-                f"Timoshenko integration failed at t = {float(solver.t):.6g} s: "
+                f"Timoshenko integration failed at t = {float(stepper.t):.6g} s: "
                 f"{type(exc).__name__}: {exc}"
             ) from exc
         n_steps += 1
-        t_now = float(solver.t)
-        if solver.status == "failed":
-            raise SimulationError(f"Timoshenko integration failed at t = {t_now:.6g} s: {message}")
-        y = solver.y
-        if not np.all(np.isfinite(y)):
-            raise SimulationError(
-                f"Timoshenko integration produced non-finite values at t = {t_now:.6g} s"
-            )
-        r_max = float(np.max(np.abs(y[:m])))
-        phi_max = float(np.max(np.abs(y[m:n2])))
-        if r_max > d or phi_max >= 0.5 * math.pi:
-            raise SimulationError(
-                f"Timoshenko integration diverged at t = {t_now:.6g} s: max |r| = "
-                f"{r_max * 1e3:.4g} mm (bound d = {d * 1e3:g} mm), max |phi| = "
-                f"{math.degrees(phi_max):.4g} deg (bound 90 deg)"
-            )
+        t_now = float(stepper.t)
+        _check_step(stepper, message, m, n2, d)
         if k_out < t_out.size and t_out[k_out] <= t_now:
             k_end = int(np.searchsorted(t_out, t_now, side="right"))
-            dense = solver.dense_output()
+            dense = stepper.dense_output()
             Y[k_out:k_end] = dense(t_out[k_out:k_end]).T
             k_out = k_end
-    wall = time.perf_counter() - wall0
-    data, fields = prob.columns(t_out, Y)
-    meta = {
-        "model": "timoshenko",
-        "params": asdict(params),
-        "load": "preload distance" if preload is not None else "applied normal force",
-        "friction": repr(friction),
-        "method": method,
-        "rtol": rtol,
-        "atol": atol,
-        "n_steps": n_steps,
-        "nfev": prob.nfev,
-        "njev": prob.njev,
-        "nlu": int(getattr(solver, "nlu", 0)),
-        "wall_time_s": wall,
-    }
-    logger.debug("Timoshenko simulation: %d steps, %d f-evals, %.3g s", n_steps, prob.nfev, wall)
-    return SimulationResult(data=data, fields=fields, meta=meta)
+    return Y, stepper, n_steps
+
+
+def _check_step(stepper: Any, message: str | None, m: int, n2: int, d: float) -> None:
+    """Raise :class:`SimulationError` if the step failed, is not finite or left the bounds.
+
+    The bounds are physical: |r| <= d and |phi| < 90 deg.
+    """
+    t_now = float(stepper.t)
+    if stepper.status == "failed":
+        raise SimulationError(f"Timoshenko integration failed at t = {t_now:.6g} s: {message}")
+    y = stepper.y
+    if not np.all(np.isfinite(y)):
+        raise SimulationError(
+            f"Timoshenko integration produced non-finite values at t = {t_now:.6g} s"
+        )
+    r_max = float(np.max(np.abs(y[:m])))
+    phi_max = float(np.max(np.abs(y[m:n2])))
+    if r_max > d or phi_max >= 0.5 * math.pi:
+        raise SimulationError(
+            f"Timoshenko integration diverged at t = {t_now:.6g} s: max |r| = "
+            f"{r_max * 1e3:.4g} mm (bound d = {d * 1e3:g} mm), max |phi| = "
+            f"{math.degrees(phi_max):.4g} deg (bound 90 deg)"
+        )
