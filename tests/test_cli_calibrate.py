@@ -3,7 +3,6 @@ the parameter file (friction_model.params_file)."""
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 
@@ -23,7 +22,7 @@ from friction_model.params_file import (
     read_parameters,
     write_parameters,
 )
-from tir_contact.commands import calibrate, simulate
+from tir_contact import cli
 
 LAW = DecreasingSqrtLaw(A_D=0.03, B_D=0.12)
 E_TRUE, ETA_TRUE = 3.0e6, 0.25
@@ -32,12 +31,7 @@ P_BAR = 0.5  # nominal pressure: 80 N on the block, 20 N per element
 
 
 def main(argv: list[str]) -> int:
-    top = argparse.ArgumentParser(prog="tir-contact")
-    sub = top.add_subparsers(dest="command", required=True)
-    calibrate.add_parser(sub)
-    simulate.add_parser(sub)
-    args = top.parse_args(argv)
-    return args.func(args)
+    return cli.main(argv)
 
 
 def lever_truth() -> dict[str, float]:
@@ -252,9 +246,7 @@ def test_calibrate_errors_and_exit_codes(tmp_path, capsys):
     assert err.count("\n") == 1 and "bad.csv: column 'velocity_mps' missing" in err
     assert main(["calibrate", "--footage", str(tmp_path), "--out", out]) == 2
     assert "frames.csv does not exist" in capsys.readouterr().err
-    with pytest.raises(SystemExit) as exc:
-        main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"])
-    assert exc.value.code == 2
+    assert main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"]) == 2
 
 
 def test_simulate_errors(tmp_path, capsys):
