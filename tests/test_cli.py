@@ -124,7 +124,7 @@ def test_errors_from_a_command_are_one_line(monkeypatch, capsys, exc, code, word
         return args
 
     monkeypatch.setattr(parser, "parse_args", parse)
-    monkeypatch.setattr("tir_contact.cli.build_parser", lambda only=None: parser)
+    monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
     assert main(["demo"]) == code
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err and "Traceback" not in err
@@ -146,7 +146,7 @@ def test_quiet_switches_progress_off(monkeypatch):
         return args
 
     monkeypatch.setattr(parser, "parse_args", parse)
-    monkeypatch.setattr("tir_contact.cli.build_parser", lambda only=None: parser)
+    monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
     assert main(["analyze", "clip", "--out", "o", "-q"]) == 0
     assert seen["no_progress"] is True and seen["quiet"] is True
     seen.clear()

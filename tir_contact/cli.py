@@ -14,7 +14,7 @@ import logging
 import sys
 import traceback
 import warnings
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from types import ModuleType
 
@@ -79,14 +79,14 @@ COMMANDS: dict[str, Command] = {
 }
 
 
-def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+def build_parser(commands: Collection[str] | None = None) -> argparse.ArgumentParser:
     """Build the argument parser with every sub-command registered.
 
     Parameters
     ----------
-    only : str, optional
-        Give only this sub-command its arguments (the others are listed by name and help;
-        their modules are not imported).
+    commands : collection of str, optional
+        Give only these sub-commands their arguments (the others are listed by name and
+        help; their modules are not imported); default all.
 
     Returns
     -------
@@ -113,7 +113,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for name, command in COMMANDS.items():
-        if only is not None and name != only:
+        if commands is not None and name not in commands:
             sub.add_parser(name, help=command.help)
             continue
         module = command.module(name)
@@ -148,19 +148,17 @@ def _command_in(argv: Sequence[str]) -> str | None:
     return None
 
 
-def _one_line(exc: BaseException) -> str:
-    return " ".join(str(exc).split()) or type(exc).__name__
-
-
 def _report(prog: str, exc: BaseException, verbose: int, *, internal: bool = False) -> None:
     """One line on stderr naming the command and the error; the traceback with ``-vv``."""
+    from tir_contact._readers import one_line  # not at startup: it loads the image libraries
+
     if verbose >= 2:
         traceback.print_exc()
     if internal:
-        print(f"{prog}: internal error: {type(exc).__name__}: {_one_line(exc)} "
+        print(f"{prog}: internal error: {type(exc).__name__}: {one_line(exc, limit=None)} "
               "(run with -vv for the traceback)", file=sys.stderr)
     else:
-        print(f"{prog}: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"{prog}: error: {one_line(exc, limit=None)}", file=sys.stderr)
 
 
 def _setup_logging(verbose: int) -> None:
@@ -189,7 +187,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         error (bad option, unusable input file or output folder), 130 when interrupted.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(only=_command_in(argv))
+    command = _command_in(argv)
+    parser = build_parser(commands=() if command is None else (command,))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version and argparse's usage errors
