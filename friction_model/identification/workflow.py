@@ -295,6 +295,17 @@ class _Options:
     tip_velocity_feedback: bool
 
 
+@dataclass(frozen=True)
+class _Results:
+    """One pipeline output folder: its tables, metadata and nominal pressure (bar)."""
+
+    folder: Path
+    frames: pd.DataFrame
+    elements: pd.DataFrame
+    meta: Mapping[str, Any]
+    pressure_bar: float | None
+
+
 def _has_contact(frames: pd.DataFrame, elements: pd.DataFrame, meta: Mapping[str, Any]) -> bool:
     """Whether a result folder holds TIR contact (contact lengths above zero)."""
     return bool(
@@ -310,23 +321,17 @@ def _has_contact(frames: pd.DataFrame, elements: pd.DataFrame, meta: Mapping[str
 
 
 def _gather_contact(
-    folder: Path,
-    frames: pd.DataFrame,
-    elements: pd.DataFrame,
-    meta: Mapping[str, Any],
-    p_bar: float | None,
-    geometry: BlockGeometry,
-    opts: _Options,
-    into: _Gathered,
+    res: _Results, geometry: BlockGeometry, opts: _Options, into: _Gathered
 ) -> None:
     """The measured contact of one TIR result folder and its lever-arm observations."""
+    folder, elements, meta, p_bar = res.folder, res.elements, res.meta, res.pressure_bar
     fn_block = None if p_bar is None else block_normal_force_N(p_bar, geometry)
     try:
         width = None
         if meta.get("width_px") and meta.get("mm_per_px"):
             width = float(meta["width_px"]) * float(meta["mm_per_px"])
         measured = contact_from_pipeline(
-            frames, elements, geometry=geometry, normal_force_N=fn_block, image_width_mm=width
+            res.frames, elements, geometry=geometry, normal_force_N=fn_block, image_width_mm=width
         )
     except ValueError as exc:
         raise ValueError(f"{folder}: {exc}") from None
@@ -347,15 +352,10 @@ def _gather_contact(
 
 
 def _gather_side_view(
-    folder: Path,
-    elements: pd.DataFrame,
-    meta: Mapping[str, Any],
-    p_bar: float | None,
-    geometry: BlockGeometry,
-    opts: _Options,
-    into: _Gathered,
+    res: _Results, geometry: BlockGeometry, opts: _Options, into: _Gathered
 ) -> None:
     """The deflection series of element 0 of one side-view result folder."""
+    folder, elements, meta, p_bar = res.folder, res.elements, res.meta, res.pressure_bar
     angles = pd.to_numeric(elements.get("deflection_angle_deg"), errors="coerce")
     if not (
         str(meta.get("view", "")).lower() == "side"
@@ -393,9 +393,10 @@ def _gather(
         if p_bar is None:
             p = (meta.get("conditions") or {}).get("pressure_bar")
             p_bar = None if p is None else float(p)
+        res = _Results(folder, frames, elements, meta, p_bar)
         if _has_contact(frames, elements, meta):
-            _gather_contact(folder, frames, elements, meta, p_bar, geometry, opts, got)
-        _gather_side_view(folder, elements, meta, p_bar, geometry, opts, got)
+            _gather_contact(res, geometry, opts, got)
+        _gather_side_view(res, geometry, opts, got)
     for path in transient:
         table = read_transient_table(path)  # any CSV dialect; errors name file, column, row
         if opts.pressure_bar is None:
