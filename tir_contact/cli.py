@@ -1,9 +1,15 @@
 """The ``tir-contact`` console command and its sub-commands.
 
-Exit codes: 0 success; 1 some of the work failed (a video, a run file), reported at the end;
-2 a usage error (a bad option, an input file that cannot be used, an output folder that
-cannot be written), reported in one line naming the file and what was expected; 130
-interrupted. No Python traceback reaches the user unless ``-vv`` asks for it.
+The sub-commands are the table :data:`COMMANDS` (name, help line, which errors mean "the
+data cannot be used"); each one's module in :mod:`tir_contact.commands` is imported only
+when that command is given. Every error a command raises ends in :func:`main`, as one line
+``tir-contact COMMAND: error: ...`` on stderr and an exit code.
+
+Exit codes: 0 success; 1 some of the work failed (a video, a run file), reported at the end,
+or (calibrate, simulate, discrepancy, synth) the data cannot be used; 2 a usage error (a bad
+option, an input file that cannot be used, an output folder that cannot be written),
+reported in one line naming the file and what was expected; 130 interrupted. No Python
+traceback reaches the user unless ``-vv`` asks for it.
 """
 
 from __future__ import annotations
