@@ -55,7 +55,6 @@ from friction_model.params_file import ParameterFileError, write_parameters
 
 __all__ = [
     "AUTO_LAWS",
-    "LAW_NAMES",
     "CalibratedParameters",
     "block_geometry_from_meta",
     "block_normal_force_N",
@@ -66,8 +65,6 @@ __all__ = [
 
 #: Laws ``law="auto"`` compares by AICc.
 AUTO_LAWS = ("ConstantLaw", "DecreasingSqrtLaw", "IncreasingSqrtLaw", "ExponentialLaw")
-#: Laws :func:`calibrate_from_results` can fit (``"auto"``: the lowest AICc of :data:`AUTO_LAWS`).
-LAW_NAMES = (*AUTO_LAWS, "ArctanExponentialLaw")
 #: Starting parameters of each law when there is no characteristic to fit it to.
 _DEFAULT_LAW_PARAMS: dict[str, dict[str, float]] = {
     "ConstantLaw": {"mu0": 0.15},
@@ -230,9 +227,9 @@ def choose_friction_law(
     Parameters
     ----------
     name : str
-        A law of :data:`LAW_NAMES`, or ``"auto"``: every law of :data:`AUTO_LAWS` is
-        fitted and the one with the lowest AICc (:func:`~friction_model.model_selection.
-        aicc_rss` of the weighted residuals) is kept.
+        A law of :mod:`friction_model.contact.laws` (its class name), or ``"auto"``: every
+        law of :data:`AUTO_LAWS` is fitted and the one with the lowest AICc
+        (:func:`~friction_model.model_selection.aicc_rss` of the weighted residuals) is kept.
     steady : SteadyCharacteristic or None
         The characteristic; None gives the law (``auto``: DecreasingSqrtLaw) with default
         starting parameters.
@@ -571,7 +568,7 @@ def calibrate_from_results(
     sliding_direction : {"left", "right"}, optional
         Direction the block moves in the image (default: the metadata).
     law : str
-        A law of :data:`LAW_NAMES`, or ``"auto"`` (:func:`choose_friction_law`).
+        A law's class name, or ``"auto"`` (:func:`choose_friction_law`).
     select : mapping, optional
         Use only characteristic rows with these column values.
     lever_arm_from : {"front_peak", "contact_centroid"}

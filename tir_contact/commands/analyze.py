@@ -14,8 +14,6 @@ import logging
 import sys
 from pathlib import Path
 
-from tir_contact.analyze import AnalysisOptions
-from tir_contact.batch import analyze_batch, find_footage
 from tir_contact.commands._types import output_folder, positive_int, positive_number
 from tir_contact.meta import META_FIELDS, option_flag
 
@@ -82,6 +80,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the analysis; returns the exit code (1 when any video failed; options or
     footage that cannot be used are raised as errors, exit code 2)."""
+    # the analysis is imported when the command runs: 'tir-contact analyze --help' stays fast
+    from tir_contact.analyze import AnalysisOptions
+    from tir_contact.batch import analyze_batch, find_footage
+
     overrides = {
         key: getattr(args, "meta__" + key.replace(".", "__"))
         for key in _meta_option_keys()

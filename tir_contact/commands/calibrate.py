@@ -33,8 +33,6 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from friction_model.geometry import reference_block
-from friction_model.identification.workflow import LAW_NAMES, calibrate_from_results
 from tir_contact.commands._types import UsageError, output_file, positive_number
 
 __all__ = ["DESCRIPTION", "LAW_CHOICES", "add_arguments", "run"]
@@ -45,8 +43,16 @@ DESCRIPTION = (
     "modulus and damping and a friction law mu(v) from contact-pipeline results, "
     "deflection time series and a steady characteristic; write a JSON parameter file."
 )
-#: Friction laws ``--law`` accepts (``auto``: the lowest AICc of the first four).
-LAW_CHOICES = ("auto", *LAW_NAMES)
+#: Friction laws ``--law`` accepts (``auto``: the lowest AICc of the first four,
+#: :data:`friction_model.identification.workflow.AUTO_LAWS`).
+LAW_CHOICES = (
+    "auto",
+    "ConstantLaw",
+    "DecreasingSqrtLaw",
+    "IncreasingSqrtLaw",
+    "ExponentialLaw",
+    "ArctanExponentialLaw",
+)
 
 
 def _level(text: str) -> float:
@@ -143,6 +149,8 @@ def _check_usage(args: argparse.Namespace) -> None:
         if path is not None and not Path(path).is_file():
             raise UsageError(f"{path}: does not exist")
     if args.preset is not None:
+        from friction_model.geometry import reference_block
+
         try:
             reference_block(args.preset)
         except ValueError as exc:
@@ -162,6 +170,9 @@ def run(args: argparse.Namespace) -> int:
         0 on success (errors are raised: :class:`UsageError` for bad arguments, ValueError
         when the data cannot be used).
     """
+    # the model is imported when the command runs: 'tir-contact calibrate --help' stays fast
+    from friction_model.identification.workflow import calibrate_from_results
+
     _check_usage(args)
     result = calibrate_from_results(
         _footage_folders(args.footage),

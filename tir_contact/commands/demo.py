@@ -9,6 +9,8 @@ model predicts from the one rubber), printing the verdict and the gap before and
 
 The steps are :func:`run_demo` (plain arguments, a :class:`DemoResult`); the command prints
 its report. Only this module and :mod:`tir_contact.commands.synth` import :mod:`synthetic`.
+The model, the analysis and the renderer are imported by the steps that use them, so that
+``tir-contact demo --help`` stays fast.
 """
 
 from __future__ import annotations
@@ -17,27 +19,15 @@ import argparse
 import logging
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 
-from friction_model import (
-    BlockGeometry,
-    Conditions,
-    DryWetParameters,
-    evaluate_on_table_4_6,
-    friction_table,
-    reference_block,
-    simulate_block,
-)
-from friction_model.discrepancy import predicted_stick_slip_problem, stick_slip_case
-from friction_model.plots import fig_4_26_table, plot_fig_4_26, plot_table_4_6
-from friction_model.rig.evaluation import evaluate_runs, write_outputs
-from tir_common.atomic import write_json
-from tir_contact.analyze import AnalysisOptions
-from tir_contact.batch import analyze_batch, find_footage
 from tir_contact.commands._types import output_folder
+
+if TYPE_CHECKING:
+    from friction_model import BlockGeometry, DryWetParameters
 
 logger = logging.getLogger(__name__)
 
@@ -158,12 +148,17 @@ def _save_figure(fig: Any, path: Path) -> None:
 
 def _fig_4_26(out: Path) -> None:
     """Step 1, Fig. 4.26: the dry run-in length of Eq. 4.7 over v, p, dT and mu_dry."""
+    from friction_model.plots import fig_4_26_table, plot_fig_4_26
+
     fig_4_26_table().to_csv(out / "fig_4_26_dry_length.csv", index=False)
     _save_figure(plot_fig_4_26(), out / "fig_4_26_dry_length.png")
 
 
 def _table_4_6(out: Path, params: DryWetParameters) -> dict[str, float]:
     """Step 2, Table 4.6: the calibrated model against the measured characteristics."""
+    from friction_model import evaluate_on_table_4_6
+    from friction_model.plots import plot_table_4_6
+
     table, rmse = evaluate_on_table_4_6(params)
     table.to_csv(out / "table_4_6_model.csv", index=False)
     _save_figure(plot_table_4_6(table, rmse), out / "table_4_6_model.png")
@@ -172,6 +167,8 @@ def _table_4_6(out: Path, params: DryWetParameters) -> dict[str, float]:
 
 def _block_elements(out: Path, params: DryWetParameters, block: BlockGeometry) -> pd.DataFrame:
     """Step 3, Fig. 4.25: the siped block element by element, cold-dry and warm-humid."""
+    from friction_model import Conditions, simulate_block
+
     frames = []
     for label, cond in (
         ("cold-dry", Conditions.from_bar(1.0, 2.5, -5.0, humidity_pct=40.0)),
@@ -190,6 +187,8 @@ def _rig_runs(
 ) -> tuple[pd.DataFrame, list[str]]:
     """Step 4: synthetic rig runs with the model's friction as the known truth, evaluated;
     the evaluated mu per velocity against the truth, and the runs that failed."""
+    from friction_model import Conditions, friction_table
+    from friction_model.rig.evaluation import evaluate_runs, write_outputs
     from synthetic.rig import make_raw_run, write_run_csv
 
     runs_dir = out / "rig_runs"
@@ -247,6 +246,8 @@ def _footage_demo(out: Path, seed: int) -> tuple[pd.DataFrame, list[str]]:
     """Step 5: render a small footage set, analyse it with the batch runner, compare with
     the truth."""
     from synthetic.footage import FootageSpec, render_footage
+    from tir_contact.analyze import AnalysisOptions
+    from tir_contact.batch import analyze_batch, find_footage
 
     footage_dir = out / "footage"
     for name, preset, view, v in _FOOTAGE_CASES:
@@ -270,6 +271,9 @@ def _footage_demo(out: Path, seed: int) -> tuple[pd.DataFrame, list[str]]:
 def _stick_slip(out: Path) -> tuple[Any, Any]:
     """Step 6, end of section 5.3.2: the rig's 1500 Hz against the model's prediction from
     the one rubber (nothing tuned to 1111 Hz), through the discrepancy workflow."""
+    from friction_model.discrepancy import predicted_stick_slip_problem, stick_slip_case
+    from tir_common.atomic import write_json
+
     problem = predicted_stick_slip_problem()
     case = stick_slip_case(problem)
     write_json(out / "discrepancy_stick_slip.json", case.to_dict())
@@ -300,6 +304,8 @@ def run_demo(out_dir: str | Path, *, seed: int = 1, runs: int = 3) -> DemoResult
     lo, hi = _RUNS_RANGE
     if not lo <= runs <= hi:
         raise ValueError(f"runs must lie in {lo}..{hi}, got {runs}")
+    from friction_model import DryWetParameters, reference_block
+
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     params = DryWetParameters()

@@ -26,25 +26,6 @@ import json
 from pathlib import Path
 from typing import Any
 
-import pandas as pd
-
-from friction_model.contact.drywet import DryWetParameters
-from friction_model.discrepancy import (
-    SteadyProblem,
-    TransientProblem,
-    read_elements_table,
-    read_steady_table,
-    read_transient_table,
-    run_discrepancy,
-    write_result,
-)
-from friction_model.discrepancy.stickslip import (
-    THESIS_SIGMA_HZ,
-    StickSlipProblem,
-    stick_slip_case,
-)
-from friction_model.params_file import read_parameters
-from tir_common.atomic import write_json
 from tir_contact.commands._types import (
     output_folder,
     positive_int,
@@ -100,6 +81,9 @@ def _drywet_params(path: Path | None) -> Any:
     """Dry/wet parameters with the measured real contact fraction of a parameter file."""
     if path is None:
         return None
+    from friction_model.contact.drywet import DryWetParameters
+    from friction_model.params_file import read_parameters
+
     doc = read_parameters(path)
     contact = doc.get("contact") or {}
     phi = contact.get("contact_fraction")
@@ -113,6 +97,8 @@ def _drywet_params(path: Path | None) -> Any:
 
 def _elements_table(paths: list[Path]) -> Any:
     """The elements tables of ``--elements`` (a folder means its elements.csv)."""
+    from friction_model.discrepancy import read_elements_table
+
     frames = []
     for path in paths:
         file = path / "elements.csv" if path.is_dir() else path
@@ -124,6 +110,13 @@ def _elements_table(paths: list[Path]) -> Any:
 
 def _problem(args: argparse.Namespace) -> Any:
     """The discrepancy problem of the one data source given."""
+    from friction_model.discrepancy import (
+        SteadyProblem,
+        TransientProblem,
+        read_steady_table,
+        read_transient_table,
+    )
+
     if args.steady is not None:
         if not args.steady.is_file():
             raise ValueError(f"{args.steady}: does not exist")
@@ -139,7 +132,7 @@ def _problem(args: argparse.Namespace) -> Any:
     if args.velocity_step is None or args.step_time is None:
         raise ValueError("--elements needs --velocity-step V1,V2 and --step-time S")
     tables = _elements_table(args.elements)
-    table = pd.concat(tables, ignore_index=True) if len(tables) == 1 else tables[0]
+    table = tables[0].reset_index(drop=True)
     if len(tables) > 1:
         raise ValueError("--elements takes one result (one run); pass transient tables "
                          "for several runs")
@@ -151,6 +144,13 @@ def _problem(args: argparse.Namespace) -> Any:
 
 def _run_stick_slip(args: argparse.Namespace) -> int:
     """The stick-slip case: measured against simulated frequency, the verdict in one line."""
+    from friction_model.discrepancy.stickslip import (
+        THESIS_SIGMA_HZ,
+        StickSlipProblem,
+        stick_slip_case,
+    )
+    from tir_common.atomic import write_json
+
     measured, simulated = args.stick_slip
     sigma = THESIS_SIGMA_HZ * measured / 1500.0
     case = stick_slip_case(StickSlipProblem(measured, simulated, sigma_Hz=sigma))
@@ -165,7 +165,13 @@ def _run_stick_slip(args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the workflow; returns the exit code (data that cannot be used is raised)."""
+    """Run the workflow; returns the exit code (data that cannot be used is raised).
+
+    The model is imported when the command runs: ``tir-contact discrepancy --help`` stays
+    fast.
+    """
+    from friction_model.discrepancy import run_discrepancy, write_result
+
     if args.stick_slip is not None:
         return _run_stick_slip(args)
     problem = _problem(args)

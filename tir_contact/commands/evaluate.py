@@ -17,9 +17,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-import pandas as pd
-
-from friction_model.rig.evaluation import InstationaryParams, evaluate_folder
 from tir_contact.commands._types import non_negative_number, output_folder, positive_number
 
 __all__ = ["DESCRIPTION", "add_arguments", "run"]
@@ -74,6 +71,9 @@ def run(args: argparse.Namespace) -> int:
     int
         0 when every file was evaluated, 1 when any failed (or a folder held no ``*.csv``).
     """
+    # the evaluation is imported when the command runs: 'tir-contact evaluate --help' stays fast
+    from friction_model.rig.evaluation import InstationaryParams, evaluate_folder
+
     result = evaluate_folder(
         args.paths,
         args.out,
@@ -90,10 +90,8 @@ def run(args: argparse.Namespace) -> int:
     )
     if n_steady:
         agg = result.steady[result.steady["row_type"] == "aggregate"]
-        summary = pd.DataFrame(
-            {
-                "specimen": agg["specimen"],
-                "condition": agg["condition"],
+        summary = agg[["specimen", "condition"]].assign(
+            **{
                 "v [m/s]": agg["velocity_mps"].map("{:.3f}".format),
                 "mu (method 1)": agg["mu_mean_method1"].map("{:.4f}".format),
                 "mu (method 2)": agg["mu_mean_method2"].map("{:.4f}".format),

@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from friction_model.calibrated_model import simulate_calibrated
 from tir_contact.commands._types import (
     UsageError,
     output_folder,
@@ -66,6 +65,9 @@ def run(args: argparse.Namespace) -> int:
         0 on success (errors are raised: :class:`UsageError` for a missing parameter file,
         ValueError when it cannot be used).
     """
+    # the model is imported when the command runs: 'tir-contact simulate --help' stays fast
+    from friction_model.calibrated_model import simulate_calibrated
+
     if not Path(args.params).is_file():
         raise UsageError(f"{args.params}: does not exist")
     result = simulate_calibrated(

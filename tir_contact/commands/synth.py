@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from friction_model.contact.effects import EFFECT_NAMES
 from tir_contact.commands._types import UsageError, output_folder, output_path
 from tir_contact.commands._types import finite_number as _number
 from tir_contact.commands._types import non_negative_number as _non_negative
@@ -96,6 +95,9 @@ def _int_list(text: str) -> tuple[int, ...]:
 
 
 def _effect(text: str) -> tuple[str, float | None]:
+    """argparse type of ``--effect NAME[=X]`` (the model is imported only when one is given)."""
+    from friction_model.contact.effects import EFFECT_NAMES
+
     name, sep, value = text.partition("=")
     name = name.strip()
     if name not in EFFECT_NAMES:
