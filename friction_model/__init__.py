@@ -30,12 +30,17 @@ Coupling and identification (section 5.4), in :mod:`friction_model.identificatio
     :class:`SteadyCharacteristic`, :func:`linear_element_response`,
     :func:`read_characteristic`, :func:`read_parameters`, :func:`write_parameters`,
     :class:`ParameterFileError`.
+Calibration from measured results and running the calibrated model,
+:mod:`friction_model.identification.workflow`, :mod:`friction_model.calibrated_model`
+    :func:`calibrate_from_results`, :class:`CalibratedParameters`,
+    :func:`simulate_calibrated`, :class:`CalibratedRun`.
 Velocity-step element model (Eq. 5.8 linearised, Eq. 5.12),
 :mod:`friction_model.dynamics.element_step`
     :func:`step_response`, :func:`step_element`, :class:`StepElement`.
 Discrepancy workflow: :mod:`friction_model.discrepancy`.
 """
 
+from friction_model.calibrated_model import CalibratedRun, simulate_calibrated
 from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.conditions import Conditions
 from friction_model.constants import ICE, WATER, IceProperties, WaterProperties
@@ -88,6 +93,7 @@ from friction_model.identification.table_4_6 import (
     evaluate_on_table_4_6,
     table_4_6_targets,
 )
+from friction_model.identification.workflow import CalibratedParameters, calibrate_from_results
 from friction_model.params_file import ParameterFileError, read_parameters, write_parameters
 from friction_model.rig.evaluation import (
     EvaluationResult,
@@ -112,6 +118,8 @@ __all__ = [
     "ArctanExponentialLaw",
     "BlockFriction",
     "BlockGeometry",
+    "CalibratedParameters",
+    "CalibratedRun",
     "CalibrationResult",
     "Compound",
     "Conditions",
@@ -137,6 +145,7 @@ __all__ = [
     "StepElement",
     "VenkateshLaw",
     "WaterProperties",
+    "calibrate_from_results",
     "calibrate_table_4_6",
     "contact_from_pipeline",
     "dry_run_in_length",
@@ -165,6 +174,7 @@ __all__ = [
     "real_contact_fraction",
     "reference_block",
     "simulate_block",
+    "simulate_calibrated",
     "step_element",
     "step_response",
     "table_4_6_targets",

@@ -54,6 +54,22 @@ def test_help_through_the_console_script():
     assert "--conditions-humidity-pct" in done.stdout and "in %" in done.stdout
 
 
+def test_top_level_help_imports_no_command_and_no_heavy_library():
+    """``tir-contact --help`` stays fast: the command modules (and with them pandas, scipy,
+    the image libraries and friction_model) are imported only for the command given."""
+    probe = (
+        "import sys; from tir_contact.cli import main; main(['--help']); "
+        "heavy = ('tir_contact.commands.analyze', 'tir_contact.commands.demo', 'pandas', "
+        "'scipy', 'cv2', 'friction_model', 'synthetic', 'matplotlib'); "
+        "print(sorted(m for m in heavy if m in sys.modules), file=sys.stderr)"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.strip() == "[]"
+    assert "calibrate" in done.stdout and "synth" in done.stdout
+
+
 def test_version(capsys):
     assert main(["--version"]) == 0
     assert capsys.readouterr().out.startswith("tir-contact ")
@@ -124,7 +140,7 @@ def test_errors_from_a_command_are_one_line(monkeypatch, capsys, exc, code, word
         return args
 
     monkeypatch.setattr(parser, "parse_args", parse)
-    monkeypatch.setattr("tir_contact.cli.build_parser", lambda: parser)
+    monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
     assert main(["demo"]) == code
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err and "Traceback" not in err
@@ -146,7 +162,7 @@ def test_quiet_switches_progress_off(monkeypatch):
         return args
 
     monkeypatch.setattr(parser, "parse_args", parse)
-    monkeypatch.setattr("tir_contact.cli.build_parser", lambda: parser)
+    monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
     assert main(["analyze", "clip", "--out", "o", "-q"]) == 0
     assert seen["no_progress"] is True and seen["quiet"] is True
     seen.clear()

@@ -3,7 +3,6 @@ the parameter file (friction_model.params_file)."""
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 
@@ -12,18 +11,28 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
+from friction_model import (
+    CalibratedParameters,
+    calibrate_from_results,
+    simulate_calibrated,
+)
 from friction_model.contact.laws import DecreasingSqrtLaw
 from friction_model.dynamics import SdofParams, TimoshenkoParams
 from friction_model.geometry import reference_block
+from friction_model.identification import (
+    block_geometry_from_meta,
+    choose_friction_law,
+    linear_element_response,
+    read_characteristic,
+)
 from friction_model.identification.coupling import lever_arm_eq_5_21
-from friction_model.identification.identify import linear_element_response
 from friction_model.params_file import (
     ParameterFileError,
     friction_law_from,
     read_parameters,
     write_parameters,
 )
-from tir_contact.commands import calibrate, simulate
+from tir_contact import cli
 
 LAW = DecreasingSqrtLaw(A_D=0.03, B_D=0.12)
 E_TRUE, ETA_TRUE = 3.0e6, 0.25
@@ -32,12 +41,7 @@ P_BAR = 0.5  # nominal pressure: 80 N on the block, 20 N per element
 
 
 def main(argv: list[str]) -> int:
-    top = argparse.ArgumentParser(prog="tir-contact")
-    sub = top.add_subparsers(dest="command", required=True)
-    calibrate.add_parser(sub)
-    simulate.add_parser(sub)
-    args = top.parse_args(argv)
-    return args.func(args)
+    return cli.main(argv)
 
 
 def lever_truth() -> dict[str, float]:
@@ -252,9 +256,7 @@ def test_calibrate_errors_and_exit_codes(tmp_path, capsys):
     assert err.count("\n") == 1 and "bad.csv: column 'velocity_mps' missing" in err
     assert main(["calibrate", "--footage", str(tmp_path), "--out", out]) == 2
     assert "frames.csv does not exist" in capsys.readouterr().err
-    with pytest.raises(SystemExit) as exc:
-        main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"])
-    assert exc.value.code == 2
+    assert main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"]) == 2
 
 
 def test_simulate_errors(tmp_path, capsys):
@@ -335,3 +337,135 @@ def test_calibrate_on_a_synthetic_transient_table(tmp_path, capsys):
     assert el["tip_velocity_feedback"] is False
     law = friction_law_from(read_parameters(out))
     assert_allclose(law(np.array([1.0, 5.0])), [truth["mu_before"], truth["mu_after"]], rtol=5e-3)
+
+
+# -- the workflows as library functions (no argparse) ----------------------------------------
+def make_side_results(folder, *, velocity_mps=2.0):
+    """A side-view pipeline folder at constant velocity: element 0 at its steady angle."""
+    folder.mkdir()
+    t = np.arange(40) * 1e-3
+    rows = [{"frame": k, "time_s": tk, "element": i, "deflection_angle_deg": 5.0 - i}
+            for k, tk in enumerate(t) for i in range(4)]
+    pd.DataFrame(rows).to_csv(folder / "elements.csv", index=False)
+    pd.DataFrame({"frame": np.arange(t.size), "time_s": t}).to_csv(folder / "frames.csv",
+                                                                   index=False)
+    meta = {"view": "side", "block": {"preset": "G3"},
+            "conditions": {"velocity_mps": velocity_mps, "pressure_bar": P_BAR}}
+    (folder / "meta.json").write_text(json.dumps(meta))
+    return folder
+
+
+def test_calibrate_from_results_recovers_the_known_parameters(tmp_path):
+    """Pipeline tables, a characteristic and a velocity step made from known parameters:
+    contact fraction exact, e(phi) to 1e-9 m, the law and E / tan(delta) within the
+    tolerances of the CLI test (>= 4 sigma over seeds)."""
+    result = calibrate_from_results(
+        [make_tir_results(tmp_path / "tir")],
+        make_characteristic(tmp_path / "steady.csv"),
+        [make_transient(tmp_path / "step.csv")],
+        pressure_bar=P_BAR,
+    )
+    assert isinstance(result, CalibratedParameters)
+    assert result.identified == ["contact", "lever_arm", "friction_law", "element"]
+    assert result.notes == ()
+    s = result.sections
+    assert s["contact"]["contact_fraction"] == pytest.approx(CF.mean(), rel=1e-9)
+    assert_allclose(s["geometry"]["element_lengths_mm"], [4.55] * 4, rtol=1e-12)
+    grid = np.radians(np.linspace(0.0, 40.0, 41))
+    la = s["lever_arm"]
+    fitted = lever_arm_eq_5_21(grid, length_m=la["element_length_m"],
+                               **{k: la[k] for k in ("e1", "e2_per_rad", "e3_m", "e4_m")})
+    assert_allclose(fitted, lever_arm_eq_5_21(grid, length_m=4.55e-3, **lever_truth()),
+                    atol=1e-9)
+    fl = s["friction_law"]
+    assert fl["law"] == "DecreasingSqrtLaw"
+    assert fl["params"]["A_D"] == pytest.approx(0.03, rel=0.05)
+    assert fl["params"]["B_D"] == pytest.approx(0.12, rel=0.02)
+    assert s["element"]["youngs_modulus_Pa"] == pytest.approx(E_TRUE, rel=0.01)
+    assert s["element"]["loss_factor"] == pytest.approx(ETA_TRUE, rel=0.12)
+    # F_N = p L w / 4 elements: 0.5 bar on 20 mm x 80 mm
+    assert s["element"]["normal_force_N"] == pytest.approx(20.0, rel=1e-12)
+    assert result.summary().startswith("geometry, contact, lever_arm, friction_law, element; "
+                                       "DecreasingSqrtLaw A_D=")
+    # the command is this call plus writing: the file holds the same sections
+    out = tmp_path / "p.json"
+    result.write(out)
+    doc = read_parameters(out)
+    assert doc["element"]["youngs_modulus_Pa"] == s["element"]["youngs_modulus_Pa"]
+    assert doc["provenance"]["options"]["law"] == "auto"
+
+
+def test_calibrate_from_results_side_view_without_a_velocity_change_is_a_note(tmp_path):
+    side = make_side_results(tmp_path / "side")
+    result = calibrate_from_results([side], make_characteristic(tmp_path / "steady.csv"))
+    assert result.identified == ["friction_law"]
+    assert result.notes == (
+        "element: no deflection series with a velocity change, E and damping not identified",
+    )
+    no_pressure = json.loads((side / "meta.json").read_text())
+    no_pressure["conditions"].pop("pressure_bar")
+    (side / "meta.json").write_text(json.dumps(no_pressure))
+    result = calibrate_from_results([side], make_characteristic(tmp_path / "steady.csv"))
+    assert result.notes == (f"{side}: side view without velocity or pressure, not used",)
+
+
+def test_calibrate_from_results_rejects_missing_input():
+    with pytest.raises(ValueError, match="give at least one of"):
+        calibrate_from_results()
+
+
+def test_choose_friction_law_picks_the_true_law_by_aicc(tmp_path):
+    steady = read_characteristic(make_characteristic(tmp_path / "s.csv", noise=0.0025))
+    law, fit = choose_friction_law("auto", steady)
+    assert type(law).__name__ == "DecreasingSqrtLaw" and fit.law is law
+    default, none = choose_friction_law("ExponentialLaw", None)
+    assert none is None and default.params == {"a1": 0.1, "a2": 0.1, "a3": -0.5}
+
+
+def test_block_geometry_from_meta_derives_element_lengths_in_one_place():
+    block = {"length_mm": 20.0, "width_mm": 20.0, "n_sipes": 2, "sipe_width_mm": 0.4,
+             "height_mm": 6.0}
+    geom = block_geometry_from_meta({"block": block})
+    assert_allclose(geom.element_lengths, [(20.0 - 0.8) / 3] * 3, rtol=1e-12)
+    given = block_geometry_from_meta({"block": {**block, "element_lengths_mm": [6, 6, 7.2]}})
+    assert_allclose(given.element_lengths, [6.0, 6.0, 7.2])
+    assert block_geometry_from_meta({"block": block}, preset="G7").n_elements == 8
+    assert block_geometry_from_meta({"block": {"length_mm": 20.0}}) == reference_block("G3")
+
+
+def test_simulate_calibrated_returns_what_the_model_gives_directly(tmp_path):
+    """mu(v) is the law, the step response is linear_element_response on the same inputs,
+    e(phi) is Eq. 5.21; a path and the file's contents give the same run."""
+    el = {"youngs_modulus_Pa": E_TRUE, "loss_factor": ETA_TRUE, "density_kg_m3": 1150.0,
+          "height_m": 6e-3, "element_length_m": 4.55e-3, "width_m": 0.08,
+          "relaxation_time_s": 0.0, "normal_force_N": 20.0}
+    path = write_parameters(
+        tmp_path / "p.json",
+        friction_law={"law": "DecreasingSqrtLaw", "params": LAW.params,
+                      "velocity_range_mps": [1.0, 5.0]},
+        element=el,
+        lever_arm={**lever_truth(), "element_length_m": 4.55e-3},
+    )
+    run = simulate_calibrated(path, velocity_step_mps=(1.0, 5.0))
+    assert_allclose(run.mu_v["mu"], LAW(run.mu_v["velocity_mps"].to_numpy()), rtol=0)
+    assert run.mu_v["velocity_mps"].iloc[[0, -1]].tolist() == [1.0, 5.0]
+    sdof = SdofParams(length_m=6e-3, element_length_m=4.55e-3, width_m=0.08,
+                      youngs_modulus_Pa=E_TRUE, loss_factor=ETA_TRUE)
+    t = run.step_response["time_s"].to_numpy()
+    v = run.step_response["velocity_mps"].to_numpy()
+    direct = linear_element_response(sdof, time_s=t, velocity_mps=v, friction=LAW,
+                                     normal_force_N=20.0)
+    assert_allclose(run.step_response["angle_deg"], np.degrees(direct), rtol=0, atol=0)
+    assert v[0] == 1.0 and v[-1] == 5.0 and run.normal_force_N == 20.0
+    e = lever_arm_eq_5_21(np.radians(run.lever_arm["deflection_angle_deg"].to_numpy()),
+                          length_m=4.55e-3, **lever_truth())
+    assert_allclose(run.lever_arm["lever_arm_mm"], np.asarray(e) * 1e3, rtol=1e-12)
+    again = simulate_calibrated(read_parameters(path), velocity_step_mps=(1.0, 5.0))
+    pd.testing.assert_frame_equal(again.step_response, run.step_response)
+    assert run.write(tmp_path / "out", plots=False) == ["mu_v.csv", "step_response.csv",
+                                                        "lever_arm.csv"]
+
+
+def test_simulate_calibrated_needs_a_law_or_a_lever_arm():
+    with pytest.raises(ValueError, match="nothing to simulate"):
+        simulate_calibrated({"geometry": {"length_mm": 20.0}})

@@ -12,7 +12,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from synthetic.rig import make_raw_run, write_run_csv
-from tir_contact.commands import evaluate
+from tir_contact import cli
 
 F_N = 300.0  # N, spring preload of the synthetic runs
 MASS = 12.5  # kg, inertial mass written to the metadata
@@ -23,15 +23,11 @@ def law(v):
 
 
 def parser() -> argparse.ArgumentParser:
-    top = argparse.ArgumentParser(prog="tir-contact")
-    sub = top.add_subparsers(dest="command", required=True)
-    evaluate.add_parser(sub)
-    return top
+    return cli.build_parser("evaluate")
 
 
 def main(argv: list[str]) -> int:
-    args = parser().parse_args(argv)
-    return args.func(args)
+    return cli.main(argv)
 
 
 def make_folder(folder: Path, *, broken: bool = False, instationary: bool = False) -> Path:
@@ -142,9 +138,7 @@ def test_forced_instationary_flag(tmp_path):
 
 @pytest.mark.parametrize("bad", [["--bin-width", "0"], ["--bin-width", "x"], ["--mass-kg", "-1"]])
 def test_bad_option_values(tmp_path, bad):
-    with pytest.raises(SystemExit) as info:
-        main(["evaluate", str(tmp_path), "--out", str(tmp_path / "o"), *bad])
-    assert info.value.code == 2
+    assert main(["evaluate", str(tmp_path), "--out", str(tmp_path / "o"), *bad]) == 2
 
 
 def test_empty_folder_fails(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""Tests of the ``tir-contact synth`` sub-command (parser built here with add_parser)."""
+"""Tests of the ``tir-contact synth`` sub-command (through tir_contact.cli)."""
 
 from __future__ import annotations
 
@@ -53,15 +53,11 @@ SMALL = {
 
 
 def parser() -> argparse.ArgumentParser:
-    top = argparse.ArgumentParser(prog="tir-contact")
-    sub = top.add_subparsers(dest="command", required=True)
-    synth.add_parser(sub)
-    return top
+    return cli.build_parser("synth")
 
 
 def main(argv: list[str]) -> int:
-    args = parser().parse_args(argv)
-    return args.func(args)
+    return cli.main(argv)
 
 
 def measurements(kind: str, out: Path, *extra: str) -> int:
@@ -175,15 +171,12 @@ def test_strength_option_applies_to_all_or_pairwise():
     ],
 )
 def test_argparse_errors_exit_2_naming_the_option(argv, message, capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(["synth", "measurements", *argv])
-    assert exc.value.code == 2
+    assert main(["synth", "measurements", *argv]) == 2
     assert message in capsys.readouterr().err
 
 
 def test_unknown_effect_message_lists_the_valid_ones(capsys):
-    with pytest.raises(SystemExit):
-        main(["synth", "measurements", "--kind", "raw", "--out", "x", "--effect", "bogus"])
+    assert main(["synth", "measurements", "--kind", "raw", "--out", "x", "--effect", "bogus"]) == 2
     err = capsys.readouterr().err
     assert all(name in err for name in EFFECT_NAMES)
 

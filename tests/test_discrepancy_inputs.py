@@ -171,9 +171,9 @@ def test_cli_discrepancy_bad_steady_file_is_one_line_naming_file_and_row(tmp_pat
     assert code == 1  # the data cannot be used
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [
-        f"tir-contact discrepancy: {path}: malformed CSV, data row 4 (file line 5): expected 8 "
-        "fields like the column header (file line 1), got 9 (read with delimiter ',', decimal "
-        "mark '.')"
+        f"tir-contact discrepancy: error: {path}: malformed CSV, data row 4 (file line 5): "
+        "expected 8 fields like the column header (file line 1), got 9 (read with delimiter "
+        "',', decimal mark '.')"
     ]
     assert not (tmp_path / "d" / "result.json").exists()
 
@@ -189,6 +189,6 @@ def test_cli_discrepancy_bad_transient_file_names_it(tmp_path, capsys):
     assert code == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [
-        f"tir-contact discrepancy: {bad}: column 'velocity_mps', data row 8 (file line 9): "
+        f"tir-contact discrepancy: error: {bad}: column 'velocity_mps', data row 8 (file line 9): "
         "expected a finite number, got 'fast' (read with delimiter ';', decimal mark ',')"
     ]

@@ -8,12 +8,15 @@ Natural sorting of frame files, decoding one image file, colour to grey conversi
 
 from __future__ import annotations
 
+import io
 import logging
 import os
 from collections.abc import Sequence
 from pathlib import Path
 
+import cv2
 import numpy as np
+import tifffile
 
 logger = logging.getLogger(__name__)
 
@@ -179,8 +182,6 @@ def decode_image_file(path: Path) -> np.ndarray:
         image = _decode_tiff_bytes(data, path)
         order = "rgb"
     else:
-        import cv2
-
         if suffix in (".jpg", ".jpeg") and not _jpeg_complete(data):
             raise FootageError(
                 f"{path}: truncated or corrupt image (JPEG end marker missing)", path
@@ -199,10 +200,6 @@ def decode_image_file(path: Path) -> np.ndarray:
 
 def _decode_tiff_bytes(data: bytes, path: Path) -> np.ndarray:
     """Decode the first page of a TIFF held in memory; see :func:`decode_image_file`."""
-    import io
-
-    import tifffile
-
     try:
         with tifffile.TiffFile(io.BytesIO(data)) as tif:
             n_pages = len(tif.pages)
@@ -231,10 +228,20 @@ def tiff_page_to_yxs(image: np.ndarray, axes: str) -> np.ndarray:
     return image
 
 
-def one_line(exc: BaseException) -> str:
-    """An exception's text as one short line; its type name when the text is empty."""
+def one_line(exc: BaseException | str, limit: int | None = 200) -> str:
+    """An exception's text (or a text) as one line of at most `limit` characters.
+
+    An exception without text gives its type name.
+
+    Examples
+    --------
+    >>> one_line(ValueError("a\\n  b")), one_line(KeyError()), one_line("x " * 200, limit=5)
+    ('a b', 'KeyError', 'x x x')
+    """
     text = " ".join(str(exc).split())
-    return text[:200] if text else type(exc).__name__
+    if not text and isinstance(exc, BaseException):
+        return type(exc).__name__
+    return text if limit is None else text[:limit]
 
 
 def unpack_12bit(packed: np.ndarray, count: int) -> np.ndarray:

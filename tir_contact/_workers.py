@@ -14,6 +14,8 @@ import sys
 import threading
 from multiprocessing.context import BaseContext
 
+import cv2
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["context", "init_worker", "parent_alive"]
@@ -72,8 +74,6 @@ def init_worker(parent_pid: int) -> None:
     parent_pid : int
         Process id of the batch that started the worker.
     """
-    import cv2
-
     cv2.setNumThreads(1)  # the batch already runs one process per core
     threading.Thread(target=_watch, args=(parent_pid,), name="parent-watch",
                      daemon=True).start()

@@ -19,15 +19,17 @@ import sys
 import time
 import traceback
 from collections.abc import Callable, Iterable, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
+from tir_common.progress import progress_bar, show_progress
 from tir_contact import _workers
-from tir_contact._outdir import remove_stale_temporaries
-from tir_contact._readers import FootageError
+from tir_contact._outdir import atomic_write, remove_stale_temporaries, write_json
+from tir_contact._readers import FootageError, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
@@ -266,17 +268,10 @@ def _numbers(values: Sequence[int], most: int = 8) -> str:
 
 def _message(exc: BaseException | str, path: str) -> str:
     """One line, without the video's own path in front (the report names it once)."""
-    text = " ".join(str(exc).split())
+    text = one_line(exc, limit=None)
     for prefix in (f"{path}: ", f"{path}{os.sep}", f"{Path(path).name}: "):
         text = text.removeprefix(prefix)
     return text
-
-
-def _show_progress(progress: bool | None) -> bool:
-    """Progress bars: as asked, or (None) only when stderr is a terminal."""
-    if progress is None:
-        return sys.stderr.isatty()
-    return bool(progress)
 
 
 def analyze_batch(
@@ -321,8 +316,6 @@ def analyze_batch(
     BatchReport
         Also written to ``out/batch_report.json`` and ``out/batch_report.csv``.
     """
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
     options = options or AnalysisOptions()
     out_path = Path(out)
     out_path.mkdir(parents=True, exist_ok=True)
@@ -337,7 +330,7 @@ def analyze_batch(
             todo.append(it)
     n_workers = max(1, workers if workers is not None else (os.cpu_count() or 1))
     n_workers = min(n_workers, max(1, len(todo)))
-    bars = _show_progress(progress)
+    bars = show_progress(progress)
     lines = progress is None and not bars
     # per-video bars only where they cannot interleave (one worker, a terminal)
     video_progress = bars and n_workers == 1 and scheduler is None
@@ -391,10 +384,9 @@ def analyze_batch(
 
 
 def _bar(total: int, done: int, show: bool) -> Any:
-    from tqdm import tqdm
-
-    return tqdm(total=total, desc="videos", unit="video", disable=not show, initial=done,
-                position=0, dynamic_ncols=True)
+    """The bar over the videos, starting at the `done` ones resumed."""
+    return progress_bar(total, progress=show, desc="videos", unit="video", initial=done,
+                        position=0)
 
 
 def _print_line(status: VideoStatus, done: int, total: int) -> None:
@@ -432,8 +424,6 @@ def _run_dask(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | Non
 
 
 def _write_report(report: BatchReport, out: Path, items: list[Footage]) -> None:
-    from tir_contact._outdir import atomic_write, write_json
-
     order = {it.name: i for i, it in enumerate(items)}
     report.videos.sort(key=lambda v: order.get(v.name, len(order)))
     write_json(out / "batch_report.json",

@@ -32,7 +32,9 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any, ClassVar, Self
 
+import cv2
 import numpy as np
+import tifffile
 
 from tir_common.naming import natural_key
 from tir_contact._cih import CihFormatError, read_cih
@@ -434,8 +436,6 @@ class MultiPageTiffReader(FootageReader):
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
-        import tifffile
-
         file = Path(path)
         if not file.is_file():
             raise FootageError(f"{file}: not a file", file)
@@ -630,12 +630,9 @@ class VideoFileReader(FootageReader):
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
-        import cv2
-
         file = Path(path)
         if not file.is_file():
             raise FootageError(f"{file}: not a file", file)
-        self._cv2 = cv2
         self._cap = cv2.VideoCapture(str(file))
         if not self._cap.isOpened():
             self._cap.release()
@@ -649,7 +646,6 @@ class VideoFileReader(FootageReader):
             raise
 
     def _open(self) -> None:
-        cv2 = self._cv2
         cap = self._cap
         file = self.path
         self._next = 0
@@ -679,12 +675,12 @@ class VideoFileReader(FootageReader):
 
     def _rewind(self) -> None:
         cap = self._cap
-        cap.set(self._cv2.CAP_PROP_POS_FRAMES, 0)
+        cap.set(cv2.CAP_PROP_POS_FRAMES, 0)
         self._next = 0
 
     def _seek_read(self, index: int) -> np.ndarray | None:
         if index != self._next:
-            self._cap.set(self._cv2.CAP_PROP_POS_FRAMES, index)
+            self._cap.set(cv2.CAP_PROP_POS_FRAMES, index)
         ok, image = self._cap.read()
         if not ok or image is None:
             self._next = -1

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+import cv2
 import numpy as np
 import pandas as pd
 
@@ -42,8 +43,6 @@ def to_display(frame: np.ndarray, max_dn: float | None = None) -> np.ndarray:
     >>> to_display(np.array([[0, 4095]], np.uint16), max_dn=4095)[0, :, 0].tolist()
     [0, 255]
     """
-    import cv2
-
     if max_dn is None:
         max_dn = 255.0 if frame.dtype == np.uint8 else float(max(frame.max(), 1))
     grey = np.clip(frame.astype(np.float32) * (255.0 / max_dn), 0, 255).astype(np.uint8)
@@ -51,8 +50,6 @@ def to_display(frame: np.ndarray, max_dn: float | None = None) -> np.ndarray:
 
 
 def _scale_up(img: np.ndarray, min_height: int = 256) -> tuple[np.ndarray, int]:
-    import cv2
-
     k = max(1, int(np.ceil(min_height / img.shape[0])))
     if k > 1:
         img = cv2.resize(img, None, fx=k, fy=k, interpolation=cv2.INTER_NEAREST)
@@ -97,8 +94,6 @@ def draw_tir_overlay(
     (M', N', 3) ndarray of uint8
         BGR image, enlarged by an integer factor to at least 256 rows.
     """
-    import cv2
-
     img, k = _scale_up(to_display(frame, max_dn))
     h = img.shape[0]
     size = (img.shape[1], h)
@@ -162,8 +157,6 @@ def draw_side_overlay(
     -------
     (M', N', 3) ndarray of uint8
     """
-    import cv2
-
     img, k = _scale_up(to_display(frame, max_dn))
     if ice_y_px is not None and np.isfinite(ice_y_px):
         y = round((ice_y_px + 0.5) * k)

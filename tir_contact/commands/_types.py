@@ -1,4 +1,5 @@
-"""argparse value types shared by the sub-commands (messages name the value given)."""
+"""argparse value types shared by the sub-commands (messages name the value given), and the
+error a command raises for arguments that do not fit together."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import tempfile
 from pathlib import Path
 
 __all__ = [
+    "UsageError",
     "check_output_folder",
     "finite_number",
     "non_negative_number",
@@ -18,6 +20,11 @@ __all__ = [
     "positive_number",
     "positive_pair",
 ]
+
+
+class UsageError(ValueError):
+    """Arguments that do not fit together or name a missing input: ``tir-contact`` reports
+    the message in one line and exits with code 2 (a usage error)."""
 
 
 def finite_number(text: str) -> float:

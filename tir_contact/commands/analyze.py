@@ -15,29 +15,25 @@ import sys
 from pathlib import Path
 
 from tir_contact.commands._types import output_folder, positive_int, positive_number
+from tir_contact.meta import META_FIELDS, option_flag
 
 logger = logging.getLogger(__name__)
 
+__all__ = ["DESCRIPTION", "add_arguments", "run"]
+
+DESCRIPTION = (
+    "Analyse footage (frame folders, TIFF stacks, videos, Photron MRAW, Phantom CINE) "
+    "with its meta.json. Writes OUT/<video>/frames.csv, elements.csv, regions.csv, "
+    "summary.json, plots and overlays. Exit code 1 when any video failed."
+)
+
 
 def _meta_option_keys() -> list[str]:
-    from tir_contact.meta import META_FIELDS
-
     return [k for k, f in META_FIELDS.items() if f.kind != "object"]
 
 
-def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    """Register the ``analyze`` sub-command."""
-    from tir_contact.meta import META_FIELDS, option_flag
-
-    p = subparsers.add_parser(
-        "analyze",
-        help="analyse TIR / side-view footage: contact area, elements, peaks, deflection",
-        description=(
-            "Analyse footage (frame folders, TIFF stacks, videos, Photron MRAW, Phantom CINE) "
-            "with its meta.json. Writes OUT/<video>/frames.csv, elements.csv, regions.csv, "
-            "summary.json, plots and overlays. Exit code 1 when any video failed."
-        ),
-    )
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``tir-contact analyze``: inputs, the analysis, metadata overrides."""
     p.add_argument("paths", nargs="+", metavar="PATH", type=Path,
                    help="footage folder or file (a tree with --recursive)")
     p.add_argument("--out", type=output_folder, required=True, metavar="DIR",
@@ -79,13 +75,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         m.add_argument(option_flag(key), dest="meta__" + key.replace(".", "__"),
                        default=None, metavar="X",
                        help=f"{field.description} ({key})".replace("%", "%%"))
-    p.set_defaults(func=run)
-    return p
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the analysis; returns the exit code."""
-    from tir_contact._readers import FootageError
+    """Run the analysis; returns the exit code (1 when any video failed; options or
+    footage that cannot be used are raised as errors, exit code 2)."""
+    # the analysis is imported when the command runs: 'tir-contact analyze --help' stays fast
     from tir_contact.analyze import AnalysisOptions
     from tir_contact.batch import analyze_batch, find_footage
 
@@ -94,21 +89,17 @@ def run(args: argparse.Namespace) -> int:
         for key in _meta_option_keys()
         if getattr(args, "meta__" + key.replace(".", "__"), None) is not None
     }
-    try:
-        options = AnalysisOptions(
-            reference=str(args.reference) if args.reference else None,
-            lit_mask=str(args.lit_mask) if args.lit_mask else None,
-            camera=args.camera,
-            contrast=args.contrast,
-            min_area_px=args.min_area_px,
-            overlay_frames=max(0, args.overlay_frames),
-            overlay_video=args.overlay_video,
-            plots=args.plots,
-        )
-        footage = find_footage(args.paths, recursive=args.recursive)
-    except (FootageError, ValueError) as exc:
-        print(f"tir-contact analyze: {exc}", file=sys.stderr)
-        return 2
+    options = AnalysisOptions(
+        reference=str(args.reference) if args.reference else None,
+        lit_mask=str(args.lit_mask) if args.lit_mask else None,
+        camera=args.camera,
+        contrast=args.contrast,
+        min_area_px=args.min_area_px,
+        overlay_frames=max(0, args.overlay_frames),
+        overlay_video=args.overlay_video,
+        plots=args.plots,
+    )
+    footage = find_footage(args.paths, recursive=args.recursive)
     progress = False if args.no_progress else None
     report = analyze_batch(footage, args.out, overrides=overrides or None, options=options,
                            workers=args.workers, scheduler=args.scheduler,

@@ -22,7 +22,7 @@ workflow ran (whatever the verdict), 1 when the data cannot be used, 2 for bad a
 from __future__ import annotations
 
 import argparse
-import sys
+import json
 from pathlib import Path
 from typing import Any
 
@@ -33,18 +33,17 @@ from tir_contact.commands._types import (
     positive_pair,
 )
 
+__all__ = ["DESCRIPTION", "add_arguments", "run"]
 
-def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    """Register the ``discrepancy`` sub-command."""
-    p = subparsers.add_parser(
-        "discrepancy",
-        help="find where model and measurement disagree and name the missing effect",
-        description=(
-            "Calibrate the base model on training data, analyse residuals, fit the candidate "
-            "effects, score them on held-out data and name the missing effect (if any). "
-            "Writes result.json, report.md and PNG plots; prints the verdict."
-        ),
-    )
+DESCRIPTION = (
+    "Calibrate the base model on training data, analyse residuals, fit the candidate "
+    "effects, score them on held-out data and name the missing effect (if any). "
+    "Writes result.json, report.md and PNG plots; prints the verdict."
+)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``tir-contact discrepancy``: one source of data, then the workflow's."""
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--steady", type=Path, metavar="CSV", help="steady characteristic table")
     src.add_argument("--transient", type=Path, nargs="+", metavar="CSV",
@@ -76,8 +75,6 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument("--n-sipes", type=int, default=3, help="sipes of the block (transient)")
     p.add_argument("--pressure-bar", type=positive_number, default=1.2,
                    help="nominal pressure, bar (transient, default 1.2)")
-    p.set_defaults(func=run)
-    return p
 
 
 def _drywet_params(path: Path | None) -> Any:
@@ -99,6 +96,7 @@ def _drywet_params(path: Path | None) -> Any:
 
 
 def _elements_table(paths: list[Path]) -> Any:
+    """The elements tables of ``--elements`` (a folder means its elements.csv)."""
     from friction_model.discrepancy import read_elements_table
 
     frames = []
@@ -111,19 +109,19 @@ def _elements_table(paths: list[Path]) -> Any:
 
 
 def _problem(args: argparse.Namespace) -> Any:
-    import pandas as pd
-
-    from friction_model.discrepancy import SteadyProblem, TransientProblem
+    """The discrepancy problem of the one data source given."""
+    from friction_model.discrepancy import (
+        SteadyProblem,
+        TransientProblem,
+        read_steady_table,
+        read_transient_table,
+    )
 
     if args.steady is not None:
         if not args.steady.is_file():
             raise ValueError(f"{args.steady}: does not exist")
-        from friction_model.discrepancy import read_steady_table
-
         return SteadyProblem(read_steady_table(args.steady), params=_drywet_params(args.params))
     if args.transient is not None:
-        from friction_model.discrepancy import read_transient_table
-
         for path in args.transient:
             if not path.is_file():
                 raise ValueError(f"{path}: does not exist")
@@ -134,7 +132,7 @@ def _problem(args: argparse.Namespace) -> Any:
     if args.velocity_step is None or args.step_time is None:
         raise ValueError("--elements needs --velocity-step V1,V2 and --step-time S")
     tables = _elements_table(args.elements)
-    table = pd.concat(tables, ignore_index=True) if len(tables) == 1 else tables[0]
+    table = tables[0].reset_index(drop=True)
     if len(tables) > 1:
         raise ValueError("--elements takes one result (one run); pass transient tables "
                          "for several runs")
@@ -144,41 +142,43 @@ def _problem(args: argparse.Namespace) -> Any:
         n_sipes=args.n_sipes, pressure_bar=args.pressure_bar)
 
 
-def run(args: argparse.Namespace) -> int:
-    """Run the workflow; returns the exit code."""
-    import json
+def _run_stick_slip(args: argparse.Namespace) -> int:
+    """The stick-slip case: measured against simulated frequency, the verdict in one line."""
+    from friction_model.discrepancy.stickslip import (
+        THESIS_SIGMA_HZ,
+        StickSlipProblem,
+        stick_slip_case,
+    )
+    from tir_common.atomic import write_json
 
+    measured, simulated = args.stick_slip
+    sigma = THESIS_SIGMA_HZ * measured / 1500.0
+    case = stick_slip_case(StickSlipProblem(measured, simulated, sigma_Hz=sigma))
+    args.out.mkdir(parents=True, exist_ok=True)
+    data = case.to_dict()
+    if case.missing_effects:
+        data["verdict"] = "missing effect: " + ", ".join(case.missing_effects)
+    write_json(args.out / "result.json", data)
+    print(f"{data['verdict']} (stick-slip frequency gap {case.gap_before_Hz:.0f} Hz"
+          f" -> {case.gap_after_Hz:.0f} Hz)")
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the workflow; returns the exit code (data that cannot be used is raised).
+
+    The model is imported when the command runs: ``tir-contact discrepancy --help`` stays
+    fast.
+    """
     from friction_model.discrepancy import run_discrepancy, write_result
 
-    try:
-        if args.stick_slip is not None:
-            from friction_model.discrepancy.stickslip import (
-                THESIS_SIGMA_HZ,
-                StickSlipProblem,
-                stick_slip_case,
-            )
-
-            measured, simulated = args.stick_slip
-            sigma = THESIS_SIGMA_HZ * measured / 1500.0
-            case = stick_slip_case(StickSlipProblem(measured, simulated, sigma_Hz=sigma))
-            args.out.mkdir(parents=True, exist_ok=True)
-            from tir_contact._outdir import write_json
-
-            data = case.to_dict()
-            if case.missing_effects:
-                data["verdict"] = "missing effect: " + ", ".join(case.missing_effects)
-            write_json(args.out / "result.json", data)
-            print(f"{data['verdict']} (stick-slip frequency gap {case.gap_before_Hz:.0f} Hz"
-                  f" -> {case.gap_after_Hz:.0f} Hz)")
-            return 0
-        problem = _problem(args)
-        names = args.effects.split(",") if args.effects else None
-        result = run_discrepancy(problem, candidates=names, max_effects=args.max_effects,
-                                 n_bootstrap=args.bootstrap, n_permutations=args.permutations,
-                                 workers=args.workers, seed=args.seed)
-    except (ValueError, OSError, KeyError) as exc:
-        print(f"tir-contact discrepancy: {' '.join(str(exc).split())}", file=sys.stderr)
-        return 1
+    if args.stick_slip is not None:
+        return _run_stick_slip(args)
+    problem = _problem(args)
+    names = args.effects.split(",") if args.effects else None
+    result = run_discrepancy(problem, candidates=names, max_effects=args.max_effects,
+                             n_bootstrap=args.bootstrap, n_permutations=args.permutations,
+                             workers=args.workers, seed=args.seed)
     write_result(result, args.out)
     gap = json.loads((args.out / "result.json").read_text())
     before, after = gap.get("gap_before"), gap.get("gap_after")

@@ -16,35 +16,20 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 from tir_contact.commands._types import non_negative_number, output_folder, positive_number
 
-__all__ = ["add_parser", "run"]
+__all__ = ["DESCRIPTION", "add_arguments", "run"]
+
+DESCRIPTION = (
+    "Evaluate raw test-rig run CSVs: constant-velocity window, mean friction "
+    "coefficient by both methods, mean and std over repeated runs, ambient averages, "
+    "instationary mu(v) with the carriage inertia removed."
+)
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
-    """Register the ``evaluate`` sub-command.
-
-    Parameters
-    ----------
-    subparsers : argparse._SubParsersAction
-        From ``parser.add_subparsers()``.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The sub-command's parser (its ``func`` default is :func:`run`).
-    """
-    parser = subparsers.add_parser(
-        "evaluate",
-        help="evaluate raw test-rig runs (steady and instationary friction coefficients)",
-        description=(
-            "Evaluate raw test-rig run CSVs: constant-velocity window, mean friction "
-            "coefficient by both methods, mean and std over repeated runs, ambient averages, "
-            "instationary mu(v) with the carriage inertia removed."
-        ),
-    )
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``tir-contact evaluate``."""
     parser.add_argument(
         "paths", nargs="+", metavar="PATH", help="run CSV files or folders of *.csv files"
     )
@@ -71,8 +56,6 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     parser.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    parser.set_defaults(func=run)
-    return parser
 
 
 def run(args: argparse.Namespace) -> int:
@@ -81,15 +64,14 @@ def run(args: argparse.Namespace) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        Parsed arguments of the parser from :func:`add_parser`.
+        Parsed arguments of the parser :func:`add_arguments` filled.
 
     Returns
     -------
     int
         0 when every file was evaluated, 1 when any failed (or a folder held no ``*.csv``).
     """
-    import pandas as pd
-
+    # the evaluation is imported when the command runs: 'tir-contact evaluate --help' stays fast
     from friction_model.rig.evaluation import InstationaryParams, evaluate_folder
 
     result = evaluate_folder(
@@ -108,10 +90,8 @@ def run(args: argparse.Namespace) -> int:
     )
     if n_steady:
         agg = result.steady[result.steady["row_type"] == "aggregate"]
-        summary = pd.DataFrame(
-            {
-                "specimen": agg["specimen"],
-                "condition": agg["condition"],
+        summary = agg[["specimen", "condition"]].assign(
+            **{
                 "v [m/s]": agg["velocity_mps"].map("{:.3f}".format),
                 "mu (method 1)": agg["mu_mean_method1"].map("{:.4f}".format),
                 "mu (method 2)": agg["mu_mean_method2"].map("{:.4f}".format),

@@ -25,16 +25,20 @@ generation fails (message on stderr), 2 for bad arguments.
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
+from tir_contact.commands._types import UsageError, output_folder, output_path
 from tir_contact.commands._types import finite_number as _number
 from tir_contact.commands._types import non_negative_number as _non_negative
-from tir_contact.commands._types import output_folder, output_path
 from tir_contact.commands._types import positive_int as _positive_int
 from tir_contact.commands._types import positive_number as _positive
 
-__all__ = ["add_parser", "footage_kwargs", "measurement_effects", "run"]
+__all__ = ["DESCRIPTION", "add_arguments", "footage_kwargs", "measurement_effects", "run"]
+
+DESCRIPTION = (
+    "Make synthetic data with exact ground truth: TIR contact footage of a sliding "
+    "tread block, or test-rig measurements with switchable physical effects."
+)
 
 _KINDS = ("steady", "transient", "raw")
 _FORMATS = ("png", "jpg", "tiff", "avi", "multitiff")
@@ -91,6 +95,7 @@ def _int_list(text: str) -> tuple[int, ...]:
 
 
 def _effect(text: str) -> tuple[str, float | None]:
+    """argparse type of ``--effect NAME[=X]`` (the model is imported only when one is given)."""
     from friction_model.contact.effects import EFFECT_NAMES
 
     name, sep, value = text.partition("=")
@@ -103,33 +108,12 @@ def _effect(text: str) -> tuple[str, float | None]:
 
 
 # -- parser ----------------------------------------------------------------------------------
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
-    """Register the ``synth`` sub-command with ``footage`` and ``measurements``.
-
-    Parameters
-    ----------
-    subparsers : argparse._SubParsersAction
-        From ``parser.add_subparsers()``.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The ``synth`` parser (its ``func`` default is :func:`run`).
-    """
-    parser = subparsers.add_parser(
-        "synth",
-        help="make synthetic TIR footage or synthetic test-rig measurements",
-        description=(
-            "Make synthetic data with exact ground truth: TIR contact footage of a sliding "
-            "tread block, or test-rig measurements with switchable physical effects."
-        ),
-    )
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The ``synth`` sub-commands ``footage`` and ``measurements`` with their options."""
     sub = parser.add_subparsers(dest="synth_command", metavar="WHAT")
     sub.required = True
     _add_footage(sub)
     _add_measurements(sub)
-    parser.set_defaults(func=run)
-    return parser
 
 
 def _add_footage(sub: Any) -> None:
@@ -305,23 +289,16 @@ def footage_kwargs(args: argparse.Namespace) -> tuple[dict[str, Any], dict[str, 
 
 
 def _run_footage(args: argparse.Namespace) -> int:
+    """Render the footage; a renderer that cannot be imported or rejects the options is
+    raised (exit code 1)."""
     try:
         from synthetic.footage import CameraSettings, FootageSpec, render_footage
     except ImportError as exc:
-        print(
-            f"tir-contact synth footage: error: the renderer synthetic.footage is not "
-            f"available ({exc})",
-            file=sys.stderr,
-        )
-        return 1
+        raise ImportError(f"the renderer synthetic.footage is not available ({exc})") from exc
     camera, spec_kwargs = footage_kwargs(args)
-    try:
-        spec = FootageSpec(**spec_kwargs, camera=CameraSettings(**camera))
-        fmt = "jpg" if args.jpeg_quality is not None else args.format
-        path = render_footage(spec, args.out, fmt=fmt)
-    except ValueError as exc:
-        print(f"tir-contact synth footage: error: {exc}", file=sys.stderr)
-        return 1
+    spec = FootageSpec(**spec_kwargs, camera=CameraSettings(**camera))
+    fmt = "jpg" if args.jpeg_quality is not None else args.format
+    path = render_footage(spec, args.out, fmt=fmt)
     print(f"footage: rendered {args.frames} frames ({fmt}) of {args.preset} to {path}")
     return 0
 
@@ -438,15 +415,14 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _run_measurements(args: argparse.Namespace) -> int:
+    """Write the measurements; options that do not fit the kind are a usage error."""
     from synthetic.measurements import DEFAULT_NOISE, write_measurements
 
-    prog = "tir-contact synth measurements"
     try:
         effects = measurement_effects(args.effect, args.strength)
         options = _options(args)
     except ValueError as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
-        return 2
+        raise UsageError(str(exc)) from None
     ignored = [
         flag
         for flag, given, kinds in (
@@ -459,24 +435,17 @@ def _run_measurements(args: argparse.Namespace) -> int:
         if given and args.kind not in kinds
     ]
     if ignored:
-        print(
-            f"{prog}: error: {', '.join(ignored)} not used by --kind {args.kind}", file=sys.stderr
-        )
-        return 2
+        raise UsageError(f"{', '.join(ignored)} not used by --kind {args.kind}")
     noise = DEFAULT_NOISE if args.noise is None else args.noise
-    try:
-        result = write_measurements(
-            args.kind,
-            args.out,
-            effects=effects,
-            noise=noise,
-            seed=args.seed,
-            reveal=args.reveal,
-            **options,
-        )
-    except (ValueError, OSError) as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
-        return 1
+    result = write_measurements(
+        args.kind,
+        args.out,
+        effects=effects,
+        noise=noise,
+        seed=args.seed,
+        reveal=args.reveal,
+        **options,
+    )
     unit = "run" if args.kind == "raw" else "row"
     what = f"{result.n_rows} {unit}{'' if result.n_rows == 1 else 's'}"
     line = f"{args.kind}: wrote {what} to {args.out} (seed {args.seed}, noise {noise:g})"
@@ -493,12 +462,13 @@ def run(args: argparse.Namespace) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        Parsed arguments of the parser from :func:`add_parser`.
+        Parsed arguments of the parser :func:`add_arguments` filled.
 
     Returns
     -------
     int
-        0 on success, 1 when generation failed, 2 for arguments that do not fit together.
+        0 on success (generation that fails, and arguments that do not fit together, are
+        raised: :class:`UsageError` for the latter).
     """
     if args.synth_command == "footage":
         return _run_footage(args)

@@ -1,0 +1,48 @@
+"""The demo's steps as a library function (:func:`tir_contact.commands.demo.run_demo`)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from friction_model import Conditions, DryWetParameters, friction_table, reference_block
+from tir_contact.cli import main
+from tir_contact.commands.demo import run_demo
+
+
+@pytest.mark.slow
+def test_run_demo_recovers_the_known_friction_and_contact(tmp_path, capsys):
+    """The synthetic rig runs carry the model's mu as the truth: the evaluation gives it back
+    within 0.5 %; the footage analysis gives the rendered contact area within 2 % and the
+    deflection angle within 0.2 deg; the command prints the result's report."""
+    result = run_demo(tmp_path / "demo", seed=1, runs=1)
+    assert result.ok
+    truth = [
+        float(friction_table(reference_block("G3"),
+                             [Conditions.from_bar(v, 2.5, -4.0, humidity_pct=73.0)],
+                             DryWetParameters())["mu"].iloc[0])
+        for v in (1.0, 3.0, 5.0)
+    ]
+    np.testing.assert_allclose(result.rig_summary["mu_evaluated"], truth, rtol=5e-3)
+    footage = result.footage.set_index("video")
+    for video in ("G3_tir_1mps", "G7_tir_3mps"):
+        row = footage.loc[video]
+        assert row.measured == pytest.approx(row.truth, rel=0.02), video
+    side = footage.loc["G3_side_1mps"]
+    assert side.measured == pytest.approx(side.truth, abs=0.2)
+    assert set(result.table_4_6_rmse) >= {"all"} and result.table_4_6_rmse["all"] < 0.02
+    assert (tmp_path / "demo" / "discrepancy_stick_slip.json").is_file()
+    assert main(["demo", "--out", str(tmp_path / "again"), "--runs", "1"]) == 0
+    printed = capsys.readouterr().out.strip()
+    assert printed.replace("again", "demo") == result.report()
+
+
+def test_run_demo_checks_the_number_of_runs(tmp_path):
+    with pytest.raises(ValueError, match=r"runs must lie in 1\.\.10"):
+        run_demo(tmp_path, runs=11)
+    assert not any(tmp_path.iterdir())
+
+
+def test_demo_runs_option_is_a_usage_error(tmp_path, capsys):
+    assert main(["demo", "--out", str(tmp_path / "d"), "--runs", "0"]) == 2
+    assert "argument --runs: expected an integer in 1..10, got '0'" in capsys.readouterr().err
