@@ -89,7 +89,7 @@ from friction_model.identification.table_4_6 import (
     table_4_6_targets,
 )
 from friction_model.params_file import ParameterFileError, read_parameters, write_parameters
-from friction_model.rig.evaluation import (
+from friction_model.rig import (
     EvaluationResult,
     RunFormatError,
     evaluate_folder,

@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
         simulate_block,
     )
     from friction_model.plots import fig_4_26_table, plot_fig_4_26, plot_table_4_6
-    from friction_model.rig.evaluation import evaluate_runs, write_outputs
+    from friction_model.rig import evaluate_runs, write_outputs
     from synthetic.rig import make_raw_run, write_run_csv
 
     if not 1 <= args.runs <= 10:

@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     """
     import pandas as pd
 
-    from friction_model.rig.evaluation import InstationaryParams, evaluate_folder
+    from friction_model.rig import InstationaryParams, evaluate_folder
 
     result = evaluate_folder(
         args.paths,
