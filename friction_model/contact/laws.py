@@ -34,9 +34,10 @@ import math
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
+import pandas as pd
 from numpy.typing import ArrayLike
 
 from friction_model._fitting import (
@@ -47,9 +48,6 @@ from friction_model._fitting import (
     refine_nonlinear,
     weighted_lstsq_batched,
 )
-
-if TYPE_CHECKING:
-    import pandas as pd
 
 logger = logging.getLogger(__name__)
 
@@ -699,8 +697,6 @@ class FitResult:
         pandas.DataFrame
             Columns ``param``, ``value``, ``stderr`` and ``fixed``, one row per parameter.
         """
-        import pandas as pd
-
         return pd.DataFrame(
             {
                 "param": list(self.params),
@@ -822,6 +818,28 @@ def fit_law(
     ):
         raise TypeError(f"law_cls must be a concrete FrictionLaw subclass, got {law_cls!r}")
     name = law_cls.__name__
+    v, y, pressure = _fit_data(law_cls, v_rel_mps, mu, pressure_Pa)
+    n = v.size
+    sqrt_w, absolute = _fit_weights(sigma, absolute_sigma, n)
+    fixed_vals, free = _fit_fixed(law_cls, fixed)
+    need = len(free) + (0 if absolute else 1)
+    if n < need:
+        raise ValueError(
+            f"too few points: fitting {len(free)} free parameter(s) {free} of {name} needs at "
+            f"least {need} data points, got {n}"
+        )
+    start_given = _resolve_p0(p0, free, name)
+    if all(k in law_cls._linear for k in free):
+        params, J = _fit_linear(law_cls, v, y, sqrt_w, pressure, fixed_vals, free)
+    else:
+        params, J = _fit_nonlinear(law_cls, v, y, sqrt_w, pressure, fixed_vals, free, start_given)
+    return _fit_result(law_cls, v, y, sqrt_w, pressure, params, J, free, fixed_vals, absolute)
+
+
+def _fit_data(
+    law_cls: type[FrictionLaw], v_rel_mps: ArrayLike, mu: ArrayLike, pressure_Pa: ArrayLike | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Checked, flattened velocities and coefficients, and the pressure broadcast to them."""
     v = as_float_array("v_rel_mps", v_rel_mps)
     y = as_float_array("mu", mu)
     if v.shape != y.shape:
@@ -829,7 +847,6 @@ def fit_law(
     v, y = v.ravel(), y.ravel()
     n = v.size
     law_cls._check_v(v)
-
     pressure = law_cls._pressure(pressure_Pa)
     if pressure is not None:
         try:
@@ -839,25 +856,34 @@ def fit_law(
                 "pressure_Pa must be a scalar or have the shape of v_rel_mps "
                 f"{(n,)}, got shape {pressure.shape}"
             ) from None
+    return v, y, pressure
 
+
+def _fit_weights(
+    sigma: ArrayLike | None, absolute_sigma: bool | None, n: int
+) -> tuple[np.ndarray, bool]:
+    """Residual weights ``1 / sigma`` (ones without sigma) and whether sigma is absolute."""
     if sigma is None:
         if absolute_sigma:
             raise ValueError("absolute_sigma=True needs sigma, got sigma=None")
-        sqrt_w = np.ones(n)
-        absolute = False
-    else:
-        s = as_float_array("sigma", sigma)
-        try:
-            s = np.broadcast_to(s, (n,))
-        except ValueError:
-            raise ValueError(
-                f"sigma must be a scalar or have the shape of mu {(n,)}, got shape {s.shape}"
-            ) from None
-        if np.any(s <= 0):
-            raise ValueError(f"sigma must be > 0, got min(sigma)={s.min()!r}")
-        sqrt_w = 1.0 / s
-        absolute = True if absolute_sigma is None else bool(absolute_sigma)
+        return np.ones(n), False
+    s = as_float_array("sigma", sigma)
+    try:
+        s = np.broadcast_to(s, (n,))
+    except ValueError:
+        raise ValueError(
+            f"sigma must be a scalar or have the shape of mu {(n,)}, got shape {s.shape}"
+        ) from None
+    if np.any(s <= 0):
+        raise ValueError(f"sigma must be > 0, got min(sigma)={s.min()!r}")
+    return 1.0 / s, True if absolute_sigma is None else bool(absolute_sigma)
 
+
+def _fit_fixed(
+    law_cls: type[FrictionLaw], fixed: Mapping[str, float] | None
+) -> tuple[dict[str, float], tuple[str, ...]]:
+    """Checked values of the fixed parameters, and the names of the free ones."""
+    name = law_cls.__name__
     fixed_vals: dict[str, float] = {}
     for key, value in (fixed or {}).items():
         if key not in law_cls.param_names:
@@ -871,64 +897,121 @@ def fit_law(
     free = tuple(k for k in law_cls.param_names if k not in fixed_vals)
     if not free:
         raise ValueError(f"nothing to fit: all parameters of {name} are fixed")
-    need = len(free) + (0 if absolute else 1)
-    if n < need:
-        raise ValueError(
-            f"too few points: fitting {len(free)} free parameter(s) {free} of {name} needs at "
-            f"least {need} data points, got {n}"
+    return fixed_vals, free
+
+
+def _fit_linear(
+    law_cls: type[FrictionLaw],
+    v: np.ndarray,
+    y: np.ndarray,
+    sqrt_w: np.ndarray,
+    pressure: np.ndarray | None,
+    fixed_vals: dict[str, float],
+    free: tuple[str, ...],
+) -> tuple[dict[str, float], np.ndarray]:
+    """Exact weighted linear least squares when every free parameter enters linearly.
+
+    Returns the parameters and the weighted Jacobian of the model in the free parameters.
+    """
+    n = v.size
+    (params,) = law_cls._start(v, y, sqrt_w, pressure, fixed_vals)
+    nonlinear = {k: fixed_vals[k] for k in law_cls.param_names if k not in law_cls._linear}
+    cols = dict(zip(law_cls._linear, law_cls._basis(v, nonlinear, pressure), strict=True))
+    J = np.stack([np.broadcast_to(cols[k], (n,)) * sqrt_w for k in free], axis=-1)
+    return params, J
+
+
+def _nonlinear_starts(
+    law_cls: type[FrictionLaw],
+    v: np.ndarray,
+    y: np.ndarray,
+    sqrt_w: np.ndarray,
+    pressure: np.ndarray | None,
+    fixed_vals: dict[str, float],
+    free: tuple[str, ...],
+    start_given: dict[str, float],
+) -> list[dict[str, float]]:
+    """Starting values: the given ones when complete, else the law's grid search.
+
+    The grid search sees at most ``_N_START`` points spread over the sorted velocities and
+    returns the best ``_N_STARTS`` local minima; given values override theirs.
+    """
+    if len(start_given) == len(free):
+        return [{**fixed_vals, **start_given}]
+    n = v.size
+    sub = slice(None)
+    if n > _N_START:
+        sub = np.argsort(v, kind="stable")[np.linspace(0, n - 1, _N_START).astype(int)]
+    starts = law_cls._start(
+        v[sub],
+        y[sub],
+        sqrt_w[sub],
+        None if pressure is None else pressure[sub],
+        fixed_vals,
+        n_starts=_N_STARTS,
+    )
+    return [{**start, **start_given} for start in starts]
+
+
+def _fit_nonlinear(
+    law_cls: type[FrictionLaw],
+    v: np.ndarray,
+    y: np.ndarray,
+    sqrt_w: np.ndarray,
+    pressure: np.ndarray | None,
+    fixed_vals: dict[str, float],
+    free: tuple[str, ...],
+    start_given: dict[str, float],
+) -> tuple[dict[str, float], np.ndarray]:
+    """Levenberg-Marquardt from each start; the lowest cost wins.
+
+    Returns the parameters and the weighted Jacobian at the optimum.
+    """
+    name = law_cls.__name__
+    starts = _nonlinear_starts(law_cls, v, y, sqrt_w, pressure, fixed_vals, free, start_given)
+
+    def residuals(x: np.ndarray) -> np.ndarray:
+        theta = {**fixed_vals, **dict(zip(free, x, strict=True))}
+        model = law_cls._formula(v, [theta[k] for k in law_cls.param_names], pressure)
+        return sqrt_w * (model - y)
+
+    best = None
+    for i, start in enumerate(starts):
+        try:
+            refined = refine_nonlinear(residuals, np.array([start[k] for k in free]), law_name=name)
+        except RuntimeError:
+            if i == len(starts) - 1 and best is None:
+                raise
+            continue
+        if best is None or refined.cost < best.cost:
+            best = refined
+    assert best is not None
+    if not best.converged:
+        warnings.warn(
+            f"fit of {name} stopped at the evaluation limit ({best.nfev}) before "
+            "converging; the data determine the parameters poorly (check stderr)",
+            UserWarning,
+            stacklevel=3,  # the caller of fit_law
         )
-    start_given = _resolve_p0(p0, free, name)
+    params = {**fixed_vals, **dict(zip(free, (float(xi) for xi in best.x), strict=True))}
+    return params, best.jac
 
-    if all(k in law_cls._linear for k in free):
-        (params,) = law_cls._start(v, y, sqrt_w, pressure, fixed_vals)
-        nonlinear = {k: fixed_vals[k] for k in law_cls.param_names if k not in law_cls._linear}
-        cols = dict(zip(law_cls._linear, law_cls._basis(v, nonlinear, pressure), strict=True))
-        J = np.stack([np.broadcast_to(cols[k], (n,)) * sqrt_w for k in free], axis=-1)
-    else:
-        if len(start_given) == len(free):
-            starts = [{**fixed_vals, **start_given}]
-        else:
-            sub = slice(None)
-            if n > _N_START:
-                sub = np.argsort(v, kind="stable")[np.linspace(0, n - 1, _N_START).astype(int)]
-            starts = law_cls._start(
-                v[sub],
-                y[sub],
-                sqrt_w[sub],
-                None if pressure is None else pressure[sub],
-                fixed_vals,
-                n_starts=_N_STARTS,
-            )
-            starts = [{**start, **start_given} for start in starts]
 
-        def residuals(x: np.ndarray) -> np.ndarray:
-            theta = {**fixed_vals, **dict(zip(free, x, strict=True))}
-            model = law_cls._formula(v, [theta[k] for k in law_cls.param_names], pressure)
-            return sqrt_w * (model - y)
-
-        best = None
-        for i, start in enumerate(starts):
-            try:
-                refined = refine_nonlinear(
-                    residuals, np.array([start[k] for k in free]), law_name=name
-                )
-            except RuntimeError:
-                if i == len(starts) - 1 and best is None:
-                    raise
-                continue
-            if best is None or refined.cost < best.cost:
-                best = refined
-        assert best is not None
-        if not best.converged:
-            warnings.warn(
-                f"fit of {name} stopped at the evaluation limit ({best.nfev}) before "
-                "converging; the data determine the parameters poorly (check stderr)",
-                UserWarning,
-                stacklevel=2,
-            )
-        J = best.jac
-        params = {**fixed_vals, **dict(zip(free, (float(xi) for xi in best.x), strict=True))}
-
+def _fit_result(
+    law_cls: type[FrictionLaw],
+    v: np.ndarray,
+    y: np.ndarray,
+    sqrt_w: np.ndarray,
+    pressure: np.ndarray | None,
+    params: dict[str, float],
+    J: np.ndarray,
+    free: tuple[str, ...],
+    fixed_vals: dict[str, float],
+    absolute: bool,
+) -> FitResult:
+    """Residuals, covariance (scaled by ``chi2 / dof`` unless absolute) and the fitted law."""
+    name = law_cls.__name__
+    n = v.size
     params = {k: float(params[k]) for k in law_cls.param_names}
     model = law_cls._formula(v, [params[k] for k in law_cls.param_names], pressure)
     resid = y - model
