@@ -42,12 +42,12 @@ from numpy.typing import ArrayLike
 
 from friction_model._fitting import (
     as_float_array,
-    check_real,
     covariance_from_jacobian,
     grid_local_minima,
     refine_nonlinear,
     weighted_lstsq_batched,
 )
+from tir_common.validate import check_real
 
 logger = logging.getLogger(__name__)
 
