@@ -876,9 +876,7 @@ def identify_parameters(
         )
     se = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
     q = float(stats.t.ppf(0.5 + 0.5 * level, dof))
-    lows = x_hat - q * se
-    highs = x_hat + q * se
-    methods = ["jacobian"] * len(all_free)
+    lows, highs, methods = x_hat - q * se, x_hat + q * se, ["jacobian"] * len(all_free)
     if ci == "profile":
         delta = float(stats.chi2.ppf(level, 1))
         for j, name in enumerate(all_free):
@@ -888,7 +886,6 @@ def identify_parameters(
     elif ci == "bootstrap":
         lows, highs = _bootstrap(prob, x_hat, level, n_bootstrap, block_length, rng)
         methods = ["bootstrap"] * len(all_free)
-
     vals = prob.full(x_hat)
     units = {k: ELEMENT_PARAMETERS[k][0] if k in ELEMENT_PARAMETERS else "-" for k in all_free}
     estimates = {
