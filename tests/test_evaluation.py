@@ -519,7 +519,10 @@ def test_no_constant_velocity_phase(tmp_path):
     ("header", "match"),
     [
         ("# run: three\n", r"metadata key 'run', file line 1: expected an integer, got 'three'"),
-        ("# kind: wobbly\n", r"metadata key 'kind', file line 1: expected 'steady' or"),
+        (
+            "# kind: wobbly\n",
+            r"metadata key 'kind', file line 1: expected one of 'steady', 'instationary'",
+        ),
         ("# nominal_area_mm2: -5\n", r"metadata key 'nominal_area_mm2', file line 1"),
     ],
 )
