@@ -694,3 +694,18 @@ def test_mask_helpers_equal_naive(bits, max_gap):
     np.testing.assert_array_equal(
         _evaluated_samples(v, half, 0.5), _naive_evaluated(v, half, 0.5)
     )
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.booleans(), min_size=1, max_size=60), st.integers(min_value=1, max_value=8))
+def test_close_gaps_is_the_morphological_closing(bits, max_gap):
+    """The gap closing equals scipy.ndimage's closing of the False-padded mask."""
+    from scipy import ndimage
+
+    from friction_model.rig.plateaus import _close_gaps
+
+    mask = np.array(bits, dtype=bool)
+    size = max_gap + 1
+    padded = np.pad(mask, size)
+    closed = ndimage.binary_closing(padded, structure=np.ones(size, dtype=bool))[size:-size]
+    np.testing.assert_array_equal(_close_gaps(mask, max_gap), closed)

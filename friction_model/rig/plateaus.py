@@ -3,7 +3,7 @@
 The velocity is smoothed and differentiated (:mod:`.signals`); the samples that move with a
 small acceleration form boolean masks, whose short interruptions are closed
 (:func:`_close_gaps`, a morphological closing) and whose contiguous spans are found
-(:func:`_true_runs`, :func:`scipy.ndimage.label`). :func:`find_constant_velocity_window`
+(:func:`_true_runs`). :func:`find_constant_velocity_window`
 returns the evaluated window; :func:`_search_plateau` also says what it found when there is
 no window, for the error message.
 """
@@ -15,7 +15,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from friction_model.rig.params import WindowParams
 from friction_model.rig.results import VelocityWindow
@@ -31,31 +30,32 @@ __all__ = ["find_constant_velocity_window"]
 
 
 def _true_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Starts and stops (exclusive) of the contiguous True runs of a boolean array."""
-    if mask.size == 0:
-        return np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp)
-    labels, count = ndimage.label(mask)
-    spans = ndimage.find_objects(labels)
-    starts = np.fromiter((s[0].start for s in spans), dtype=np.intp, count=count)
-    stops = np.fromiter((s[0].stop for s in spans), dtype=np.intp, count=count)
-    return starts, stops
+    """Starts and stops (exclusive) of the contiguous True runs of a boolean array.
+
+    From the edges of the mask (``np.diff``): :func:`scipy.ndimage.label` with
+    :func:`scipy.ndimage.find_objects` gives the same spans but took 1.7 ms instead of 0.3 ms
+    on a 180 000-sample run, and far longer on masks with many short runs.
+    """
+    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
+    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
 
 
 def _close_gaps(mask: np.ndarray, max_gap: int) -> np.ndarray:
     """Set False runs of at most ``max_gap`` samples with True on both sides to True.
 
-    A morphological closing with a flat element of ``max_gap + 1`` samples fills exactly the
-    False runs shorter than the element. The mask is padded with ``max_gap + 1`` False samples
-    at each end, so a False run at an end of the record is never filled and the filter's
-    border handling never reaches the record. The grey closing of the 0/1 mask equals the
-    binary closing and runs in time independent of the element's length.
+    This is the morphological closing with a flat element of ``max_gap + 1`` samples on a
+    mask padded with False, done on the few gaps themselves: the closing by
+    :func:`scipy.ndimage.grey_closing` gives the same mask (the tests compare both with a
+    naive loop) but took three times as long on a 180 000-sample run.
     """
-    if max_gap <= 0:
+    starts, stops = _true_runs(~mask)
+    inner = (starts > 0) & (stops < mask.shape[0]) & (stops - starts <= max_gap)
+    if not inner.any():
         return mask
-    size = max_gap + 1
-    padded = np.pad(mask.astype(np.uint8), size)
-    closed = ndimage.grey_closing(padded, size=size, mode="constant", cval=0)
-    return closed[size:-size].astype(bool)
+    delta = np.zeros(mask.shape[0] + 1, dtype=np.int64)
+    np.add.at(delta, starts[inner], 1)
+    np.add.at(delta, stops[inner], -1)
+    return mask | (np.cumsum(delta[:-1]) > 0)
 
 
 @dataclass(frozen=True)
