@@ -828,12 +828,31 @@ def fit_law(
             f"too few points: fitting {len(free)} free parameter(s) {free} of {name} needs at "
             f"least {need} data points, got {n}"
         )
+    problem = _FitProblem(law_cls, v, y, sqrt_w, pressure, fixed_vals, free)
     start_given = _resolve_p0(p0, free, name)
     if all(k in law_cls._linear for k in free):
-        params, J = _fit_linear(law_cls, v, y, sqrt_w, pressure, fixed_vals, free)
+        params, J = _fit_linear(problem)
     else:
-        params, J = _fit_nonlinear(law_cls, v, y, sqrt_w, pressure, fixed_vals, free, start_given)
-    return _fit_result(law_cls, v, y, sqrt_w, pressure, params, J, free, fixed_vals, absolute)
+        params, J = _fit_nonlinear(problem, start_given)
+    return _fit_result(problem, params, J, absolute)
+
+
+@dataclass(frozen=True)
+class _FitProblem:
+    """What :func:`fit_law` fits: the law, the checked data and the fixed parameters."""
+
+    law_cls: type[FrictionLaw]
+    v: np.ndarray  # sliding velocities, m/s
+    y: np.ndarray  # measured friction coefficients
+    sqrt_w: np.ndarray  # residual weights 1 / sigma
+    pressure: np.ndarray | None  # Pa, for pressure-dependent laws
+    fixed_vals: dict[str, float]
+    free: tuple[str, ...]
+
+    def model(self, theta: Mapping[str, float]) -> np.ndarray:
+        """The law's ``mu`` at the data for parameter values ``theta`` (all of them)."""
+        names = self.law_cls.param_names
+        return self.law_cls._formula(self.v, [theta[k] for k in names], self.pressure)
 
 
 def _fit_data(
@@ -900,85 +919,62 @@ def _fit_fixed(
     return fixed_vals, free
 
 
-def _fit_linear(
-    law_cls: type[FrictionLaw],
-    v: np.ndarray,
-    y: np.ndarray,
-    sqrt_w: np.ndarray,
-    pressure: np.ndarray | None,
-    fixed_vals: dict[str, float],
-    free: tuple[str, ...],
-) -> tuple[dict[str, float], np.ndarray]:
+def _fit_linear(fp: _FitProblem) -> tuple[dict[str, float], np.ndarray]:
     """Exact weighted linear least squares when every free parameter enters linearly.
 
     Returns the parameters and the weighted Jacobian of the model in the free parameters.
     """
-    n = v.size
-    (params,) = law_cls._start(v, y, sqrt_w, pressure, fixed_vals)
-    nonlinear = {k: fixed_vals[k] for k in law_cls.param_names if k not in law_cls._linear}
-    cols = dict(zip(law_cls._linear, law_cls._basis(v, nonlinear, pressure), strict=True))
-    J = np.stack([np.broadcast_to(cols[k], (n,)) * sqrt_w for k in free], axis=-1)
+    law_cls, n = fp.law_cls, fp.v.size
+    (params,) = law_cls._start(fp.v, fp.y, fp.sqrt_w, fp.pressure, fp.fixed_vals)
+    nonlinear = {k: fp.fixed_vals[k] for k in law_cls.param_names if k not in law_cls._linear}
+    cols = dict(zip(law_cls._linear, law_cls._basis(fp.v, nonlinear, fp.pressure), strict=True))
+    J = np.stack([np.broadcast_to(cols[k], (n,)) * fp.sqrt_w for k in fp.free], axis=-1)
     return params, J
 
 
-def _nonlinear_starts(
-    law_cls: type[FrictionLaw],
-    v: np.ndarray,
-    y: np.ndarray,
-    sqrt_w: np.ndarray,
-    pressure: np.ndarray | None,
-    fixed_vals: dict[str, float],
-    free: tuple[str, ...],
-    start_given: dict[str, float],
-) -> list[dict[str, float]]:
+def _nonlinear_starts(fp: _FitProblem, start_given: dict[str, float]) -> list[dict[str, float]]:
     """Starting values: the given ones when complete, else the law's grid search.
 
     The grid search sees at most ``_N_START`` points spread over the sorted velocities and
     returns the best ``_N_STARTS`` local minima; given values override theirs.
     """
-    if len(start_given) == len(free):
-        return [{**fixed_vals, **start_given}]
-    n = v.size
+    if len(start_given) == len(fp.free):
+        return [{**fp.fixed_vals, **start_given}]
+    n = fp.v.size
     sub = slice(None)
     if n > _N_START:
-        sub = np.argsort(v, kind="stable")[np.linspace(0, n - 1, _N_START).astype(int)]
-    starts = law_cls._start(
-        v[sub],
-        y[sub],
-        sqrt_w[sub],
-        None if pressure is None else pressure[sub],
-        fixed_vals,
+        sub = np.argsort(fp.v, kind="stable")[np.linspace(0, n - 1, _N_START).astype(int)]
+    starts = fp.law_cls._start(
+        fp.v[sub],
+        fp.y[sub],
+        fp.sqrt_w[sub],
+        None if fp.pressure is None else fp.pressure[sub],
+        fp.fixed_vals,
         n_starts=_N_STARTS,
     )
     return [{**start, **start_given} for start in starts]
 
 
 def _fit_nonlinear(
-    law_cls: type[FrictionLaw],
-    v: np.ndarray,
-    y: np.ndarray,
-    sqrt_w: np.ndarray,
-    pressure: np.ndarray | None,
-    fixed_vals: dict[str, float],
-    free: tuple[str, ...],
-    start_given: dict[str, float],
+    fp: _FitProblem, start_given: dict[str, float]
 ) -> tuple[dict[str, float], np.ndarray]:
     """Levenberg-Marquardt from each start; the lowest cost wins.
 
     Returns the parameters and the weighted Jacobian at the optimum.
     """
-    name = law_cls.__name__
-    starts = _nonlinear_starts(law_cls, v, y, sqrt_w, pressure, fixed_vals, free, start_given)
+    name = fp.law_cls.__name__
+    starts = _nonlinear_starts(fp, start_given)
 
     def residuals(x: np.ndarray) -> np.ndarray:
-        theta = {**fixed_vals, **dict(zip(free, x, strict=True))}
-        model = law_cls._formula(v, [theta[k] for k in law_cls.param_names], pressure)
-        return sqrt_w * (model - y)
+        theta = {**fp.fixed_vals, **dict(zip(fp.free, x, strict=True))}
+        return fp.sqrt_w * (fp.model(theta) - fp.y)
 
     best = None
     for i, start in enumerate(starts):
         try:
-            refined = refine_nonlinear(residuals, np.array([start[k] for k in free]), law_name=name)
+            refined = refine_nonlinear(
+                residuals, np.array([start[k] for k in fp.free]), law_name=name
+            )
         except RuntimeError:
             if i == len(starts) - 1 and best is None:
                 raise
@@ -993,29 +989,20 @@ def _fit_nonlinear(
             UserWarning,
             stacklevel=3,  # the caller of fit_law
         )
-    params = {**fixed_vals, **dict(zip(free, (float(xi) for xi in best.x), strict=True))}
+    params = {**fp.fixed_vals, **dict(zip(fp.free, (float(xi) for xi in best.x), strict=True))}
     return params, best.jac
 
 
 def _fit_result(
-    law_cls: type[FrictionLaw],
-    v: np.ndarray,
-    y: np.ndarray,
-    sqrt_w: np.ndarray,
-    pressure: np.ndarray | None,
-    params: dict[str, float],
-    J: np.ndarray,
-    free: tuple[str, ...],
-    fixed_vals: dict[str, float],
-    absolute: bool,
+    fp: _FitProblem, params: dict[str, float], J: np.ndarray, absolute: bool
 ) -> FitResult:
     """Residuals, covariance (scaled by ``chi2 / dof`` unless absolute) and the fitted law."""
+    law_cls, free = fp.law_cls, fp.free
     name = law_cls.__name__
-    n = v.size
+    n = fp.v.size
     params = {k: float(params[k]) for k in law_cls.param_names}
-    model = law_cls._formula(v, [params[k] for k in law_cls.param_names], pressure)
-    resid = y - model
-    chi2 = float(np.sum((sqrt_w * resid) ** 2))
+    resid = fp.y - fp.model(params)
+    chi2 = float(np.sum((fp.sqrt_w * resid) ** 2))
     dof = n - len(free)
     scale = 1.0 if absolute else chi2 / dof
     cov_free = covariance_from_jacobian(J, scale=scale, names=free)
@@ -1036,7 +1023,7 @@ def _fit_result(
         rmse=float(np.sqrt(np.mean(resid**2))),
         n_points=n,
         dof=dof,
-        fixed=tuple(k for k in law_cls.param_names if k in fixed_vals),
+        fixed=tuple(k for k in law_cls.param_names if k in fp.fixed_vals),
         absolute_sigma=absolute,
     )
 
