@@ -19,13 +19,12 @@ from friction_model.rig._io import RigRun, RunFormatError
 from friction_model.rig.params import InstationaryParams
 from friction_model.rig.results import INSTATIONARY_COLUMNS, InstationaryRunResult
 from friction_model.rig.signals import (
-    _as_1d,
-    _check_same_length,
     _decimate,
     _half_width,
     _moving_average,
     _mu_trace,
     _run_mean,
+    _signals,
 )
 from tir_common.validate import check_nonnegative
 
@@ -195,11 +194,12 @@ def instationary_characteristic(
         inertia-corrected, filtered ``mu`` of the bin), ``mu_std`` (sample standard deviation
         of those values) and ``n`` (number of samples); sorted by branch then velocity.
     """
-    t = _as_1d("time_s", time_s)
-    v = _as_1d("velocity_mps", velocity_mps)
-    ff = _as_1d("friction_force_N", friction_force_N)
-    fn = _as_1d("normal_force_N", normal_force_N)
-    _check_same_length(time_s=t, velocity_mps=v, friction_force_N=ff, normal_force_N=fn)
+    t, v, ff, fn = _signals(
+        time_s=time_s,
+        velocity_mps=velocity_mps,
+        friction_force_N=friction_force_N,
+        normal_force_N=normal_force_N,
+    )
     check_nonnegative("inertial_mass_kg", inertial_mass_kg)
     if t.shape[0] < 2:
         raise ValueError(f"need at least 2 samples, got {t.shape[0]}")

@@ -19,11 +19,10 @@ import numpy as np
 from friction_model.rig.params import WindowParams
 from friction_model.rig.results import VelocityWindow
 from friction_model.rig.signals import (
-    _as_1d,
-    _check_same_length,
     _half_width,
     _lag_derivative,
     _moving_average,
+    _signals,
 )
 
 __all__ = ["find_constant_velocity_window"]
@@ -158,9 +157,7 @@ def find_constant_velocity_window(
         When no constant-velocity phase of at least ``min_duration_s`` exists, or for bad
         parameters or arrays.
     """
-    t = _as_1d("time_s", time_s)
-    v = _as_1d("velocity_mps", velocity_mps)
-    _check_same_length(time_s=t, velocity_mps=v)
+    t, v = _signals(time_s=time_s, velocity_mps=velocity_mps)
     if t.shape[0] < 2:
         raise ValueError(f"need at least 2 samples, got {t.shape[0]}")
     params = WindowParams(

@@ -71,11 +71,13 @@ def _as_1d(name: str, values: Any) -> np.ndarray:
     return arr
 
 
-def _check_same_length(**arrays: np.ndarray) -> None:
-    """Raise ValueError naming every length when the arrays differ in length."""
+def _signals(**values: Any) -> tuple[np.ndarray, ...]:
+    """The named signals as 1-D float arrays of one length, else ValueError naming them."""
+    arrays = {name: _as_1d(name, v) for name, v in values.items()}
     lengths = {name: a.shape[0] for name, a in arrays.items()}
     if len(set(lengths.values())) > 1:
         raise ValueError(f"arrays must have equal lengths, got {lengths}")
+    return tuple(arrays.values())
 
 
 def _decimate(n: int) -> slice:

@@ -16,10 +16,9 @@ from friction_model.rig.params import WindowParams
 from friction_model.rig.plateaus import _no_plateau_detail, _search_plateau
 from friction_model.rig.results import SteadyRunResult
 from friction_model.rig.signals import (
-    _as_1d,
-    _check_same_length,
     _mu_trace,
     _run_mean,
+    _signals,
     _time_mean,
 )
 
@@ -43,9 +42,7 @@ def friction_coefficient(friction_force_N: np.ndarray, normal_force_N: np.ndarra
     (N,) ndarray of float
         ``mu(t)`` (dimensionless).
     """
-    ff = _as_1d("friction_force_N", friction_force_N)
-    fn = _as_1d("normal_force_N", normal_force_N)
-    _check_same_length(friction_force_N=ff, normal_force_N=fn)
+    ff, fn = _signals(friction_force_N=friction_force_N, normal_force_N=normal_force_N)
     return ff / fn
 
 
@@ -73,10 +70,9 @@ def mean_friction_coefficients(
     Time averages use the trapezoidal rule; for uniform sampling this is the arithmetic mean
     of the thesis with the two end samples weighted by one half.
     """
-    t = _as_1d("time_s", time_s)
-    ff = _as_1d("friction_force_N", friction_force_N)
-    fn = _as_1d("normal_force_N", normal_force_N)
-    _check_same_length(time_s=t, friction_force_N=ff, normal_force_N=fn)
+    t, ff, fn = _signals(
+        time_s=time_s, friction_force_N=friction_force_N, normal_force_N=normal_force_N
+    )
     if t.shape[0] == 0:
         raise ValueError("need at least one sample")
     method1 = _time_mean(t, ff / fn)
