@@ -1,10 +1,10 @@
-"""Benchmark: evaluating raw test-rig runs, friction_model.rig.evaluation vs plain pandas.
+"""Benchmark: evaluating raw test-rig runs, friction_model.rig vs plain pandas.
 
 Synthesises ten steady runs of 5 s at 50 kHz (250 000 rows each, like the rig records,
 thesis section 4.2.3), writes them as CSV to a temporary folder, then times in the same
 process
 
-* ``friction_model.rig.evaluation.evaluate_runs`` (C-engine read after the metadata lines,
+* ``friction_model.rig.evaluate_runs`` (C-engine read after the metadata lines,
   cumulative-sum filters, numpy plateau search), and
 * a straightforward pandas implementation written below (``read_csv(comment="#")``, rolling
   means, ``groupby`` over contiguous spans, ``groupby`` aggregation),
@@ -29,10 +29,10 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # running from a source checkout without installing
     sys.path.insert(0, str(ROOT))
 
-from friction_model.rig.evaluation import evaluate_runs  # noqa: E402
+from friction_model.rig import evaluate_runs  # noqa: E402
 from synthetic.rig import make_raw_run, write_run_csv  # noqa: E402
 
-# the same detection parameters as the defaults of friction_model.rig.evaluation.WindowParams
+# the same detection parameters as the defaults of friction_model.rig.WindowParams
 SMOOTHING_S = 0.02
 REL_TOL = 0.02
 ABS_TOL_MPS = 0.01
@@ -153,7 +153,7 @@ def main() -> int:
         base_run = statistics.median(base) / len(paths)
         mine = result.steady[result.steady["row_type"] == "run"]
         diff = np.max(np.abs(mine["mu_mean_method1"].to_numpy() - runs["mu_mean_method1"]))
-        print(f"friction_model.rig.evaluation: {1e3 * ours_run:8.1f} ms per run")
+        print(f"friction_model.rig           : {1e3 * ours_run:8.1f} ms per run")
         print(f"plain pandas             : {1e3 * base_run:8.1f} ms per run")
         print(f"speed-up (pandas / ours) : {base_run / ours_run:8.2f}x")
         print(f"largest |mu difference|  : {diff:.2e}")

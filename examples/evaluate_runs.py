@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # running from a source checkout without installing
     sys.path.insert(0, str(ROOT))
 
-from friction_model.rig.evaluation import evaluate_folder  # noqa: E402
+from friction_model.rig import evaluate_folder  # noqa: E402
 from synthetic.rig import make_raw_run, write_run_csv  # noqa: E402
 
 OUT = ROOT / "examples" / "out" / "evaluate"

@@ -1,12 +1,39 @@
 """Rubber-ice friction: the dry run-in / wet model, friction laws and test-rig evaluation.
 
+This package knows no images (it imports only :mod:`tir_common`); it is laid out in rooms,
+one per question, each with an ``__init__`` that lists its public names:
+
+:mod:`friction_model.contact` -- what happens in the contact (section 4.5)
+    The dry run-in / wet model (``drywet``, its march along the block in ``_march``), Blok's
+    flash temperature (``flash_temperature``, Eq. 4.6 and 4.7), the initial water layer
+    (``water_layer``), the switchable effects (``effects``), the model as a friction law
+    (``drywet_law``) and the empirical friction laws with their fits (``laws``).
+:mod:`friction_model.rig` -- the linear test rig (sections 4.2.4 and 4.4)
+    Reading a run (``_io``), finding its constant-velocity window (``signals``,
+    ``plateaus``), evaluating steady and instationary runs (``steady``, ``instationary``),
+    averaging repeats (``aggregate``), the batch (``files``, ``batch``) and its outputs
+    (``figures``, ``write``); parameters and results in ``params`` and ``results``.
+:mod:`friction_model.identification` -- from measurements to parameters (section 5.4)
+    Measured contact and lever arm (``coupling``), element identification (``identify``),
+    the calibration to Table 4.6 (``table_4_6``).
+:mod:`friction_model.dynamics` -- the tread block in motion (chapter 5)
+    Rigid, Euler-Bernoulli and Timoshenko models, stick-slip, the velocity-step element.
+:mod:`friction_model.discrepancy` -- where model and measurement disagree
+    The discrepancy workflow (steady, transient, stick-slip).
+
+At the top level stay what every room uses: the material constants (``constants``), the
+rubber compound (``compound``), the conditions (``conditions``), the block geometry
+(``geometry``), the calibrated-parameter file (``params_file``), the Table 4.6 figures
+(``plots``), model selection criteria (``model_selection``) and two private helpers, the
+table reader (``_table_io``) and the least-squares helpers (``_fitting``).
+
 Public API
 ----------
 Model inputs
     :class:`BlockGeometry`, :func:`reference_block`, :class:`Conditions`,
     :class:`DryWetParameters`, :class:`Effects`, :class:`IceProperties`,
     :class:`WaterProperties`.
-Dry/wet model (section 4.5.1)
+Dry/wet model (section 4.5.1), in :mod:`friction_model.contact`
     :func:`dry_run_in_length` (Eq. 4.7), :func:`flash_temperature_rise` (Eq. 4.6),
     :func:`simulate_block`, :func:`friction_table`, :func:`element_friction_table`,
     :class:`DryWetLaw` (the model as a friction law), :func:`real_contact_fraction`,
@@ -15,15 +42,15 @@ Friction laws (Eq. 2.4, 4.8, 4.9, 5.4, 5.7, 5.24) and relaxation (Eq. 5.12)
     :class:`FrictionLaw`, :class:`ConstantLaw`, :class:`DecreasingSqrtLaw`,
     :class:`IncreasingSqrtLaw`, :class:`ExponentialLaw`, :class:`ArctanExponentialLaw`,
     :class:`VenkateshLaw`, :class:`RelaxedFriction`, :func:`fit_law`, :class:`FitResult`.
-Test-rig evaluation (section 4.2.4 and 4.4), also in :mod:`friction_model.rig.evaluation`
+Test-rig evaluation (section 4.2.4 and 4.4), all of it in :mod:`friction_model.rig`
     :func:`read_run`, :func:`evaluate_steady_run`, :func:`evaluate_instationary_run`,
     :func:`evaluate_runs`, :func:`evaluate_folder`, :func:`write_outputs`,
     :func:`find_constant_velocity_window`, :func:`mean_friction_coefficients`,
     :class:`RunFormatError`, :class:`EvaluationResult`.
 Calibration (Table 4.6)
     :func:`calibrate_table_4_6`, :func:`table_4_6_targets`, :func:`evaluate_on_table_4_6`.
-Coupling and identification (section 5.4), in :mod:`friction_model.identification.coupling`,
-:mod:`friction_model.identification.identify`, :mod:`friction_model.params_file`
+Coupling and identification (section 5.4), in :mod:`friction_model.identification` and
+:mod:`friction_model.params_file`
     :func:`contact_from_pipeline`, :class:`MeasuredContact`, :func:`drywet_inputs`,
     :func:`lever_arm_observations`, :func:`fit_lever_arm`, :class:`LeverArmFit`,
     :func:`identify_parameters`, :class:`IdentificationResult`, :class:`DeflectionSeries`,
@@ -95,7 +122,7 @@ from friction_model.identification.table_4_6 import (
 )
 from friction_model.identification.workflow import CalibratedParameters, calibrate_from_results
 from friction_model.params_file import ParameterFileError, read_parameters, write_parameters
-from friction_model.rig.evaluation import (
+from friction_model.rig import (
     EvaluationResult,
     RunFormatError,
     evaluate_folder,

@@ -1,6 +1,6 @@
 """Private numerical helpers for :mod:`friction_model.contact.laws`.
 
-Input checks shared by the friction laws, batched weighted linear least squares (used for the
+The array check shared by the friction laws, batched weighted linear least squares (used for the
 exact fit of laws that are linear in their parameters and for grid-based starting values of the
 separable nonlinear laws), the Gauss-Newton covariance of a least-squares estimate and the
 nonlinear refinement with :func:`scipy.optimize.least_squares`.
@@ -8,7 +8,6 @@ nonlinear refinement with :func:`scipy.optimize.least_squares`.
 
 from __future__ import annotations
 
-import numbers
 import warnings
 from collections.abc import Callable
 from typing import NamedTuple
@@ -19,48 +18,11 @@ from scipy.optimize import least_squares
 __all__ = [
     "Refined",
     "as_float_array",
-    "check_real",
     "covariance_from_jacobian",
     "grid_local_minima",
     "refine_nonlinear",
     "weighted_lstsq_batched",
 ]
-
-
-def check_real(name: str, value: object, *, rule: str = "finite") -> float:
-    """Return ``value`` as a float after checking its type and a simple rule.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name used in the error message.
-    value : object
-        The value to check; must be a real number (``bool`` is rejected).
-    rule : {"finite", "> 0", ">= 0"}
-        The rule the value must obey besides being finite.
-
-    Returns
-    -------
-    float
-        ``float(value)``.
-
-    Raises
-    ------
-    TypeError
-        If ``value`` is not a real number.
-    ValueError
-        If ``value`` breaks ``rule`` (NaN and infinity are never accepted).
-    """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
-    x = float(value)
-    if not np.isfinite(x):
-        raise ValueError(f"{name} must be finite, got {name}={x!r}")
-    if rule == "> 0" and not x > 0:
-        raise ValueError(f"{name} must be > 0, got {name}={x!r}")
-    if rule == ">= 0" and not x >= 0:
-        raise ValueError(f"{name} must be >= 0, got {name}={x!r}")
-    return x
 
 
 def as_float_array(name: str, value: object, *, finite: bool = True) -> np.ndarray:

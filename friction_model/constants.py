@@ -7,7 +7,6 @@ The viscosity of water near 0 degC is 1.79 mPa s (tabulated value at 0 degC).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from tir_common.validate import check_positive
@@ -46,19 +45,9 @@ class IceProperties:
         check_positive("latent_heat_J_kg", self.latent_heat_J_kg)
 
     @property
-    def thermal_diffusivity_m2_s(self) -> float:
-        """kappa = lambda / (rho c) in m^2/s."""
-        return self.thermal_conductivity_W_mK / (self.density_kg_m3 * self.specific_heat_J_kgK)
-
-    @property
     def thermal_inertia(self) -> float:
         """lambda * rho * c in W^2 s/(m^4 K^2), the group under the root of Eq. 4.6/4.7."""
         return self.thermal_conductivity_W_mK * self.density_kg_m3 * self.specific_heat_J_kgK
-
-    @property
-    def effusivity(self) -> float:
-        """sqrt(lambda rho c) in W s^0.5/(m^2 K)."""
-        return math.sqrt(self.thermal_inertia)
 
 
 @dataclass(frozen=True)

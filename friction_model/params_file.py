@@ -18,14 +18,16 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
-import math
-import numbers
 import os
 from collections.abc import Mapping
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
+from friction_model.contact import laws
+from friction_model.dynamics.rigid import SdofParams
 from tir_common.atomic import atomic_write, json_safe
+from tir_common.schema import Field, FieldError, Schema
 
 __all__ = [
     "SCHEMA",
@@ -44,76 +46,112 @@ SCHEMA = "tir-contact/parameters"
 #: Version of the layout below; readers refuse newer versions.
 SCHEMA_VERSION = 1
 
-# key -> (kind, required); kinds: "number", "number>0", "number>=0", "fraction", "int>=0",
-# "text", "numbers" (list of numbers), "mapping" (str -> number or null), "object"
-_SPEC: dict[str, dict[str, tuple[str, bool]]] = {
-    "geometry": {
-        "length_mm": ("number>0", True),
-        "width_mm": ("number>0", True),
-        "n_sipes": ("int>=0", True),
-        "sipe_width_mm": ("number>=0", True),
-        "height_mm": ("number>0", True),
-        "element_lengths_mm": ("numbers", False),
-    },
-    "contact": {
-        "contact_fraction": ("fraction", True),
-        "contact_fraction_std": ("number>=0", False),
-        "contact_fraction_per_element": ("numbers", False),
-        "contact_ratio": ("fraction", False),
-        "real_contact_area_mm2": ("number>0", False),
-        "normal_force_N": ("number>0", False),
-        "nominal_pressure_Pa": ("number>0", False),
-        "pressure_local_Pa": ("number>0", False),
-        "n_frames": ("int>=0", False),
-    },
-    "lever_arm": {
-        "e1": ("number", True),
-        "e2_per_rad": ("number>=0", True),
-        "e3_m": ("number", True),
-        "e4_m": ("number", True),
-        "element_length_m": ("number>0", True),
-        "observation": ("text", False),
-        "stderr": ("mapping", False),
-        "ci_low": ("mapping", False),
-        "ci_high": ("mapping", False),
-        "confidence_level": ("fraction", False),
-        "rmse_m": ("number>=0", False),
-        "n_points": ("int>=0", False),
-    },
-    "friction_law": {
-        "law": ("text", True),
-        "params": ("mapping", True),
-        "equation": ("text", False),
-        "stderr": ("mapping", False),
-        "ci_low": ("mapping", False),
-        "ci_high": ("mapping", False),
-        "confidence_level": ("fraction", False),
-        "rmse": ("number>=0", False),
-        "n_points": ("int>=0", False),
-        "velocity_range_mps": ("numbers", False),
-    },
-    "element": {
-        "youngs_modulus_Pa": ("number>0", True),
-        "loss_factor": ("number>=0", True),
-        "density_kg_m3": ("number>0", True),
-        "height_m": ("number>0", True),
-        "element_length_m": ("number>0", True),
-        "width_m": ("number>0", True),
-        "normal_force_N": ("number>=0", False),
-        "relaxation_time_s": ("number>=0", False),
-        "tip_velocity_feedback": ("bool", False),
-        "natural_frequency_Hz": ("number>0", False),
-        "stderr": ("mapping", False),
-        "ci_low": ("mapping", False),
-        "ci_high": ("mapping", False),
-        "ci_method": ("text", False),
-        "confidence_level": ("fraction", False),
-        "rmse_deg": ("number>=0", False),
-        "n_points": ("int>=0", False),
-    },
+# Shorthand of the rules below: "number>0", "number>=0", "fraction" (a number in [0, 1]),
+# "int>=0", "number" (finite), "text", "bool", "numbers" (list of numbers), "mapping"
+# (name -> number or null).
+_RULES: dict[str, dict[str, Any]] = {
+    "number>0": {"kind": "number", "low": 0.0, "low_open": True},
+    "number>=0": {"kind": "number", "low": 0.0},
+    "fraction": {"kind": "number", "low": 0.0, "high": 1.0},
+    "int>=0": {"kind": "integer", "low": 0},
+    "number": {"kind": "number"},
+    "text": {"kind": "text"},
+    "bool": {"kind": "bool"},
+    "numbers": {"kind": "numbers"},
+    "mapping": {"kind": "mapping"},
+}
+
+
+def _field(key: str, rule: str, required: bool, description: str = "") -> Field:
+    """A :class:`~tir_common.schema.Field` from the shorthand ``rule``; the unit is in ``key``."""
+    return Field(key, required=required, description=description, **_RULES[rule])
+
+
+#: The sections of the file: every key with its rule and whether it is required.
+_SPEC: dict[str, Schema] = {
+    "geometry": Schema(
+        "geometry",
+        (
+            _field("length_mm", "number>0", True),
+            _field("width_mm", "number>0", True),
+            _field("n_sipes", "int>=0", True),
+            _field("sipe_width_mm", "number>=0", True),
+            _field("height_mm", "number>0", True),
+            _field("element_lengths_mm", "numbers", False),
+        ),
+    ),
+    "contact": Schema(
+        "contact",
+        (
+            _field("contact_fraction", "fraction", True),
+            _field("contact_fraction_std", "number>=0", False),
+            _field("contact_fraction_per_element", "numbers", False),
+            _field("contact_ratio", "fraction", False),
+            _field("real_contact_area_mm2", "number>0", False),
+            _field("normal_force_N", "number>0", False),
+            _field("nominal_pressure_Pa", "number>0", False),
+            _field("pressure_local_Pa", "number>0", False),
+            _field("n_frames", "int>=0", False),
+        ),
+    ),
+    "lever_arm": Schema(
+        "lever_arm",
+        (
+            _field("e1", "number", True),
+            _field("e2_per_rad", "number>=0", True),
+            _field("e3_m", "number", True),
+            _field("e4_m", "number", True),
+            _field("element_length_m", "number>0", True),
+            _field("observation", "text", False),
+            _field("stderr", "mapping", False),
+            _field("ci_low", "mapping", False),
+            _field("ci_high", "mapping", False),
+            _field("confidence_level", "fraction", False),
+            _field("rmse_m", "number>=0", False),
+            _field("n_points", "int>=0", False),
+        ),
+    ),
+    "friction_law": Schema(
+        "friction_law",
+        (
+            _field("law", "text", True),
+            _field("params", "mapping", True),
+            _field("equation", "text", False),
+            _field("stderr", "mapping", False),
+            _field("ci_low", "mapping", False),
+            _field("ci_high", "mapping", False),
+            _field("confidence_level", "fraction", False),
+            _field("rmse", "number>=0", False),
+            _field("n_points", "int>=0", False),
+            _field("velocity_range_mps", "numbers", False),
+        ),
+    ),
+    "element": Schema(
+        "element",
+        (
+            _field("youngs_modulus_Pa", "number>0", True),
+            _field("loss_factor", "number>=0", True),
+            _field("density_kg_m3", "number>0", True),
+            _field("height_m", "number>0", True),
+            _field("element_length_m", "number>0", True),
+            _field("width_m", "number>0", True),
+            _field("normal_force_N", "number>=0", False),
+            _field("relaxation_time_s", "number>=0", False),
+            _field("tip_velocity_feedback", "bool", False),
+            _field("natural_frequency_Hz", "number>0", False),
+            _field("stderr", "mapping", False),
+            _field("ci_low", "mapping", False),
+            _field("ci_high", "mapping", False),
+            _field("ci_method", "text", False),
+            _field("confidence_level", "fraction", False),
+            _field("rmse_deg", "number>=0", False),
+            _field("n_points", "int>=0", False),
+        ),
+    ),
 }
 #: The optional sections of the file and their keys.
 SECTIONS = tuple(_SPEC)
+_PROVENANCE = Field("provenance", "object", "who wrote the file, when, from which inputs")
 
 
 class ParameterFileError(ValueError):
@@ -124,79 +162,11 @@ def _fail(path: Path | str, key: str, what: str) -> ParameterFileError:
     return ParameterFileError(f"{path}: '{key}' {what}")
 
 
-def _is_number(x: Any) -> bool:
-    return isinstance(x, numbers.Real) and not isinstance(x, bool) and math.isfinite(float(x))
-
-
-def _check_value(path: Path | str, key: str, kind: str, value: Any) -> Any:
-    """Check one value against its kind; return it as a plain JSON value."""
-    if kind == "text":
-        if not isinstance(value, str):
-            raise _fail(path, key, f"must be text, got {value!r} ({type(value).__name__})")
-        return value
-    if kind == "bool":
-        if not isinstance(value, bool):
-            raise _fail(path, key, f"must be true or false, got {value!r}")
-        return value
-    if kind == "object":
-        if not isinstance(value, Mapping):
-            raise _fail(path, key, f"must be a JSON object, got {type(value).__name__}")
-        return dict(value)
-    if kind == "numbers":
-        if isinstance(value, str | bytes) or not hasattr(value, "__iter__"):
-            raise _fail(path, key, f"must be a list of numbers, got {value!r}")
-        out = list(value)
-        for i, x in enumerate(out):
-            if not _is_number(x):
-                raise _fail(path, f"{key}[{i}]", f"must be a finite number, got {x!r}")
-        return [float(x) for x in out]
-    if kind == "mapping":
-        if not isinstance(value, Mapping):
-            raise _fail(path, key, f"must be a JSON object of numbers, got {value!r}")
-        res: dict[str, float | None] = {}
-        for k, x in value.items():
-            if x is None or (isinstance(x, float) and not math.isfinite(x)):
-                res[str(k)] = None  # not determined (e.g. an infinite standard error)
-            elif _is_number(x):
-                res[str(k)] = float(x)
-            else:
-                raise _fail(path, f"{key}.{k}", f"must be a number or null, got {x!r}")
-        return res
-    if kind == "int>=0":
-        whole = _is_number(value) and float(value).is_integer()
-        if not whole or value < 0:
-            raise _fail(path, key, f"must be an integer >= 0, got {value!r}")
-        return int(value)
-    if not _is_number(value):
-        raise _fail(path, key, f"must be a finite number, got {value!r}")
-    x = float(value)
-    rule = {
-        "number>0": (x > 0, "> 0"),
-        "number>=0": (x >= 0, ">= 0"),
-        "fraction": (0 <= x <= 1, "in [0, 1]"),
-        "number": (True, ""),
-    }[kind]
-    if not rule[0]:
-        raise _fail(path, key, f"must be a number {rule[1]}, got {value!r}")
-    return x
-
-
 def _check_section(path: Path | str, name: str, section: Any) -> dict[str, Any]:
-    if not isinstance(section, Mapping):
-        raise _fail(path, name, f"must be a JSON object, got {type(section).__name__}")
-    spec = _SPEC[name]
-    out: dict[str, Any] = {}
-    for key, (kind, required) in spec.items():
-        if key not in section or section[key] is None:
-            if required:
-                raise _fail(path, f"{name}.{key}", "is missing")
-            continue
-        out[key] = _check_value(path, f"{name}.{key}", kind, section[key])
-    unknown = sorted(set(section) - set(spec))
-    if unknown:
-        raise _fail(
-            path, f"{name}.{unknown[0]}", f"is not a known key of '{name}' (known: {sorted(spec)})"
-        )
+    try:
+        out = _SPEC[name].check(section, prefix=f"{name}.")
+    except FieldError as exc:
+        raise ParameterFileError(f"{path}: {exc}") from None
     if name == "geometry":
         lengths = out.get("element_lengths_mm")
         if lengths is not None and len(lengths) != out["n_sipes"] + 1:
@@ -206,8 +176,6 @@ def _check_section(path: Path | str, name: str, section: Any) -> dict[str, Any]:
                 f"must have n_sipes + 1 = {out['n_sipes'] + 1} entries, got {len(lengths)}",
             )
     if name == "friction_law":
-        from friction_model.contact import laws
-
         cls = getattr(laws, out["law"], None)
         if not (isinstance(cls, type) and issubclass(cls, laws.FrictionLaw)):
             known = sorted(
@@ -244,7 +212,10 @@ def _validate(path: Path | str, doc: Any) -> dict[str, Any]:
         )
     out: dict[str, Any] = {"schema": SCHEMA, "schema_version": version}
     prov = doc.get("provenance", {})
-    out["provenance"] = _check_value(path, "provenance", "object", prov)
+    try:
+        out["provenance"] = _PROVENANCE.check(prov)
+    except FieldError as exc:
+        raise ParameterFileError(f"{path}: {exc}") from None
     for name in SECTIONS:
         if doc.get(name) is not None:
             out[name] = _check_section(path, name, doc[name])
@@ -298,8 +269,6 @@ def write_parameters(
     {'mu0': 0.12}
     """
     path = Path(path)
-    from importlib.metadata import PackageNotFoundError, version
-
     try:
         pkg_version = version("tir-contact")
     except PackageNotFoundError:  # pragma: no cover - source tree without installation
@@ -374,8 +343,6 @@ def friction_law_from(parameters: Mapping[str, Any]):
     FrictionLaw or None
         None when the file has no ``friction_law`` section.
     """
-    from friction_model.contact import laws
-
     section = parameters.get("friction_law")
     if section is None:
         return None
@@ -383,7 +350,7 @@ def friction_law_from(parameters: Mapping[str, Any]):
     return cls(**{k: section["params"][k] for k in cls.param_names})
 
 
-def sdof_params_from(parameters: Mapping[str, Any]):
+def sdof_params_from(parameters: Mapping[str, Any]) -> SdofParams | None:
     """The element as :class:`~friction_model.dynamics.SdofParams` (None without ``element``).
 
     Parameters
@@ -397,8 +364,6 @@ def sdof_params_from(parameters: Mapping[str, Any]):
         Geometry, density, E and loss factor of the file; the derived constants follow
         from them as in :class:`~friction_model.dynamics.SdofParams`.
     """
-    from friction_model.dynamics.rigid import SdofParams
-
     el = parameters.get("element")
     if el is None:
         return None

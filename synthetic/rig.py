@@ -4,7 +4,7 @@ A run is what the rig records while the carriage drags a tread-block sample over
 (thesis sections 4.2.3 and 4.4): sliding velocity, normal force, friction force, ambient
 temperature and humidity, sampled at up to 50 kHz. :func:`make_raw_run` synthesises such a
 run from a known friction law ``mu_of_v``; :func:`write_run_csv` writes it in the CSV format
-read by :mod:`friction_model.rig.evaluation` (see ``docs/formats.md``).
+read by :mod:`friction_model.rig` (see ``docs/formats.md``).
 
 Notes
 -----

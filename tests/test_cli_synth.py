@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 from friction_model.contact.effects import EFFECT_NAMES
-from friction_model.rig.evaluation import read_run
+from friction_model.rig import read_run
 from synthetic.measurements import STEADY_COLUMNS, TRANSIENT_COLUMNS
 from tir_contact import cli
 from tir_contact.commands import synth

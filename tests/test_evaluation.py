@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
-from friction_model.rig.evaluation import (
+from friction_model.rig import (
     AMBIENT_COLUMNS,
     INSTATIONARY_COLUMNS,
     STEADY_COLUMNS,
@@ -519,7 +519,10 @@ def test_no_constant_velocity_phase(tmp_path):
     ("header", "match"),
     [
         ("# run: three\n", r"metadata key 'run', file line 1: expected an integer, got 'three'"),
-        ("# kind: wobbly\n", r"metadata key 'kind', file line 1: expected 'steady' or"),
+        (
+            "# kind: wobbly\n",
+            r"metadata key 'kind', file line 1: expected one of 'steady', 'instationary'",
+        ),
         ("# nominal_area_mm2: -5\n", r"metadata key 'nominal_area_mm2', file line 1"),
     ],
 )
@@ -632,3 +635,77 @@ def test_generator_is_reproducible_and_exact():
     assert_allclose(truth["mu"][moving], law(truth["velocity_mps"][moving]), rtol=1e-15)
     with pytest.raises(ValueError, match="kind must be"):
         make_raw_run(law, kind="sideways")
+
+
+# ---------------------------------------------------------------------------------------------
+# the scipy.ndimage mask helpers equal a naive computation
+
+
+def _naive_runs(mask):
+    spans, i = [], 0
+    while i < len(mask):
+        if mask[i]:
+            j = i
+            while j < len(mask) and mask[j]:
+                j += 1
+            spans.append((i, j))
+            i = j
+        else:
+            i += 1
+    return spans
+
+
+def _naive_close_gaps(mask, max_gap):
+    out = mask.copy()
+    for s, e in _naive_runs(~mask):
+        if s > 0 and e < len(mask) and e - s <= max_gap:
+            out[s:e] = True
+    return out
+
+
+def _naive_evaluated(v_ss, half, min_velocity):
+    n, support = len(v_ss), 2 * half
+    still = np.abs(v_ss) < min_velocity
+    return np.array(
+        [
+            support <= i < n - support
+            and not still[max(i - support, 0) : min(i + support + 1, n)].any()
+            for i in range(n)
+        ],
+        dtype=bool,
+    )
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.lists(st.booleans(), min_size=0, max_size=60),
+    st.integers(min_value=0, max_value=8),
+)
+def test_mask_helpers_equal_naive(bits, max_gap):
+    from friction_model.rig.instationary import _evaluated_samples
+    from friction_model.rig.plateaus import _close_gaps, _true_runs
+
+    mask = np.array(bits, dtype=bool)
+    starts, stops = _true_runs(mask)
+    assert list(zip(starts.tolist(), stops.tolist(), strict=True)) == _naive_runs(mask)
+    np.testing.assert_array_equal(_close_gaps(mask, max_gap), _naive_close_gaps(mask, max_gap))
+    v = np.where(mask, 1.0, 0.0)
+    half = max(max_gap // 2, 1)
+    np.testing.assert_array_equal(
+        _evaluated_samples(v, half, 0.5), _naive_evaluated(v, half, 0.5)
+    )
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.booleans(), min_size=1, max_size=60), st.integers(min_value=1, max_value=8))
+def test_close_gaps_is_the_morphological_closing(bits, max_gap):
+    """The gap closing equals scipy.ndimage's closing of the False-padded mask."""
+    from scipy import ndimage
+
+    from friction_model.rig.plateaus import _close_gaps
+
+    mask = np.array(bits, dtype=bool)
+    size = max_gap + 1
+    padded = np.pad(mask, size)
+    closed = ndimage.binary_closing(padded, structure=np.ones(size, dtype=bool))[size:-size]
+    np.testing.assert_array_equal(_close_gaps(mask, max_gap), closed)

@@ -492,15 +492,27 @@ def test_relaxation_stays_within_steady_range(steps, speeds, tau, frac):
 @pytest.mark.parametrize(
     ("make", "exc", "match"),
     [
-        (lambda: VenkateshLaw(4.0, 15.0, 0.0), ValueError, r"E0_Pa must be > 0, got E0_Pa=0.0"),
-        (lambda: VenkateshLaw(-1.0, 15.0, E0), ValueError, r"A must be > 0"),
-        (lambda: ArctanExponentialLaw(0.1, 0.2, -0.5, 0.0), ValueError, r"k4 must be > 0"),
+        (
+            lambda: VenkateshLaw(4.0, 15.0, 0.0),
+            ValueError,
+            r"E0_Pa must be a finite number > 0, got E0_Pa=0.0",
+        ),
+        (lambda: VenkateshLaw(-1.0, 15.0, E0), ValueError, r"A must be a finite number > 0"),
+        (
+            lambda: ArctanExponentialLaw(0.1, 0.2, -0.5, 0.0),
+            ValueError,
+            r"k4 must be a finite number > 0",
+        ),
         (lambda: DecreasingSqrtLaw(math.nan, 0.1), ValueError, r"A_D must be finite"),
         (lambda: ExponentialLaw(0.1, 0.2, math.inf), ValueError, r"a3 must be finite"),
-        (lambda: ConstantLaw(-0.1), ValueError, r"mu0 must be >= 0"),
+        (lambda: ConstantLaw(-0.1), ValueError, r"mu0 must be a finite number >= 0"),
         (lambda: IncreasingSqrtLaw("0.03", 0.075), TypeError, r"A_I must be a real number"),
         (lambda: ConstantLaw(True), TypeError, r"mu0 must be a real number"),
-        (lambda: RelaxedFriction(ConstantLaw(0.2), -1.0), ValueError, r"tau_s must be >= 0"),
+        (
+            lambda: RelaxedFriction(ConstantLaw(0.2), -1.0),
+            ValueError,
+            r"tau_s must be a finite number >= 0",
+        ),
         (lambda: RelaxedFriction(lambda v: v, 1.0), TypeError, r"law must be a FrictionLaw"),
     ],
 )

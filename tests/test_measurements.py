@@ -16,7 +16,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 from friction_model.contact.drywet import DryWetParameters, friction_table
 from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
 from friction_model.geometry import BlockGeometry
-from friction_model.rig.evaluation import evaluate_steady_run, read_run
+from friction_model.rig import evaluate_steady_run, read_run
 from synthetic.measurements import (
     MODULUS_ALPHA,
     STEADY_COLUMNS,

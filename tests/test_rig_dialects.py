@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from friction_model.rig.evaluation import (
+from friction_model.rig import (
     RunFormatError,
     evaluate_instationary_run,
     evaluate_steady_run,

@@ -9,7 +9,8 @@ The file is the one written by ``tir-contact synth footage``::
      "conditions": {"velocity_mps": 0.1, "pressure_bar": 2.5, "temperature_C": -5,
                     "humidity_pct": 70, "salinity_pct": 0}}
 
-Every known key is type-checked (:data:`META_FIELDS`); other keys are kept as they are.
+Every known key is type-checked (:data:`META_FIELDS`, fields of :mod:`tir_common.schema`);
+other keys are kept as they are.
 Values given on the command line (dotted keys such as ``"block.n_sipes"``) override the file.
 
 Notes
@@ -28,10 +29,10 @@ import logging
 import math
 import os
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from tir_common.schema import Field, FieldError
 from tir_contact._readers import FootageError
 
 logger = logging.getLogger(__name__)
@@ -41,7 +42,6 @@ __all__ = [
     "META_FIELDS",
     "META_FILENAME",
     "REQUIRED_KEYS",
-    "MetaField",
     "clip_footage",
     "find_meta",
     "load_meta",
@@ -53,81 +53,56 @@ __all__ = [
 META_FILENAME = "meta.json"
 
 
-@dataclass(frozen=True)
-class MetaField:
-    """One known key of ``meta.json``.
-
-    Parameters
-    ----------
-    key : str
-        Dotted key, e.g. ``"block.n_sipes"``.
-    kind : {"number", "integer", "choice", "object"}
-        Expected JSON type.
-    description : str
-        Meaning, with the unit.
-    choices : tuple of str
-        Allowed values of a ``"choice"``.
-    minimum, maximum : float, optional
-        Inclusive bounds of a number.
-    positive : bool
-        A number must be strictly greater than 0.
-    """
-
-    key: str
-    kind: str
-    description: str
-    choices: tuple[str, ...] = ()
-    minimum: float | None = None
-    maximum: float | None = None
-    positive: bool = False
-
-    def expected(self) -> str:
-        """The expected type and range, as said in error messages."""
-        if self.kind == "choice":
-            return "one of " + ", ".join(repr(c) for c in self.choices)
-        if self.kind == "object":
-            return "a JSON object"
-        text = "an integer" if self.kind == "integer" else "a number"
-        if self.positive:
-            text += " > 0"
-        elif self.minimum is not None and self.maximum is not None:
-            text += f" from {self.minimum:g} to {self.maximum:g}"
-        elif self.minimum is not None:
-            text += f" >= {self.minimum:g}"
-        return text
-
-
-def _fields(*fields: MetaField) -> dict[str, MetaField]:
+def _fields(*fields: Field) -> dict[str, Field]:
     return {f.key: f for f in fields}
 
 
 #: Known keys of ``meta.json`` (dotted for nested ones) and their types.
-META_FIELDS: dict[str, MetaField] = _fields(
-    MetaField("view", "choice", "camera view: TIR contact image or side view", ("tir", "side")),
-    MetaField("fps", "number", "frame rate in Hz", positive=True),
-    MetaField("mm_per_px", "number", "image scale in mm per pixel", positive=True),
-    MetaField(
+META_FIELDS: dict[str, Field] = _fields(
+    Field("view", "choice", "camera view: TIR contact image or side view", choices=("tir", "side")),
+    Field("fps", "number", "frame rate in Hz", unit="Hz", low=0, low_open=True),
+    Field("mm_per_px", "number", "image scale in mm per pixel", unit="mm/px", low=0, low_open=True),
+    Field(
         "sliding_direction",
         "choice",
         "direction the block slides relative to the ice, as seen in the image",
-        ("left", "right"),
+        choices=("left", "right"),
     ),
-    MetaField("contact_is", "choice", "grey level of real contact", ("dark", "bright")),
-    MetaField("block", "object", "tread-block geometry"),
-    MetaField("block.length_mm", "number", "block length in mm (sliding direction)", positive=True),
-    MetaField("block.width_mm", "number", "block width in mm", positive=True),
-    MetaField("block.n_sipes", "integer", "number of sipes", minimum=0),
-    MetaField("block.sipe_width_mm", "number", "sipe width in mm", minimum=0),
-    MetaField("block.height_mm", "number", "block height in mm", positive=True),
-    MetaField("conditions", "object", "test conditions"),
-    MetaField("conditions.velocity_mps", "number", "sliding velocity in m/s"),
-    MetaField("conditions.pressure_bar", "number", "nominal contact pressure in bar", minimum=0),
-    MetaField("conditions.temperature_C", "number", "ice or air temperature in °C"),
-    MetaField(
-        "conditions.humidity_pct", "number", "relative humidity in %", minimum=0, maximum=100
+    Field("contact_is", "choice", "grey level of real contact", choices=("dark", "bright")),
+    Field("block", "object", "tread-block geometry"),
+    Field(
+        "block.length_mm",
+        "number",
+        "block length in mm (sliding direction)",
+        unit="mm",
+        low=0,
+        low_open=True,
     ),
-    MetaField(
-        "conditions.salinity_pct", "number", "salinity of the ice in %", minimum=0, maximum=100
+    Field("block.width_mm", "number", "block width in mm", unit="mm", low=0, low_open=True),
+    Field("block.n_sipes", "integer", "number of sipes", low=0),
+    Field("block.sipe_width_mm", "number", "sipe width in mm", unit="mm", low=0),
+    Field("block.height_mm", "number", "block height in mm", unit="mm", low=0, low_open=True),
+    Field("conditions", "object", "test conditions"),
+    Field("conditions.velocity_mps", "number", "sliding velocity in m/s", unit="m/s"),
+    Field(
+        "conditions.pressure_bar", "number", "nominal contact pressure in bar", unit="bar", low=0
+    ),
+    Field("conditions.temperature_C", "number", "ice or air temperature in °C", unit="degC"),
+    Field(
+        "conditions.humidity_pct",
+        "number",
+        "relative humidity in %",
+        unit="%",
+        low=0,
+        high=100,
+    ),
+    Field(
+        "conditions.salinity_pct",
+        "number",
+        "salinity of the ice in %",
+        unit="%",
+        low=0,
+        high=100,
     ),
 )
 
@@ -227,55 +202,12 @@ def _meta_target(path: Path) -> Path:
     return (path if path.is_dir() else path.parent) / META_FILENAME
 
 
-def _show(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _check(value: Any, field: MetaField, where: str, *, from_text: bool) -> Any:
+def _check(value: Any, field: Field, where: str, *, from_text: bool) -> Any:
     """Check (and coerce) one value; `where` starts the message (file or option)."""
-
-    def bad() -> FootageError:
-        return FootageError(
-            f"{where} '{field.key}' must be {field.expected()}, got {_show(value)} "
-            f"({type(value).__name__})"
-        )
-
-    if field.kind == "object":
-        if not isinstance(value, Mapping):
-            raise bad()
-        return dict(value)
-    if field.kind == "choice":
-        if not isinstance(value, str) or value.strip().lower() not in field.choices:
-            raise bad()
-        return value.strip().lower()
-    number: float | int
-    if isinstance(value, bool):
-        raise bad()
-    if isinstance(value, str) and from_text:
-        try:
-            number = float(value)
-        except ValueError:
-            raise bad() from None
-    elif isinstance(value, int | float):
-        number = value
-    else:
-        raise bad()
-    if not math.isfinite(number):
-        raise bad()
-    if field.kind == "integer":
-        if float(number) != int(number):
-            raise bad()
-        number = int(number)
-    else:
-        number = float(number)
-    if field.positive and not number > 0:
-        raise bad()
-    if field.minimum is not None and number < field.minimum:
-        raise bad()
-    if field.maximum is not None and number > field.maximum:
-        raise bad()
-    return number
+    try:
+        return field.check(value, from_text=from_text)
+    except FieldError as exc:
+        raise FootageError(f"{where} {exc}") from None
 
 
 def _check_tree(data: dict[str, Any], where: str, prefix: str = "") -> None:

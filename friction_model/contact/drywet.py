@@ -557,6 +557,25 @@ def simulate_block(
     params = params or DryWetParameters()
     table = _as_table(conditions)
     prep, res, agg = _run(geometry, table, params)
+    elements = _block_elements(geometry, conditions, params, prep, res, agg)
+    return BlockFriction(
+        conditions=conditions,
+        geometry=geometry,
+        elements=elements,
+        block=_block_totals(geometry, elements, params, prep),
+        profile=_block_profile(conditions, prep, res),
+    )
+
+
+def _block_elements(
+    geometry: BlockGeometry,
+    conditions: Conditions,
+    params: DryWetParameters,
+    prep: _Prepared,
+    res: MarchOutput,
+    agg: dict[str, np.ndarray],
+) -> pd.DataFrame:
+    """Per-element table of :func:`simulate_block` (one condition)."""
     lengths_mm = geometry.element_lengths
     w_eff_mm = geometry.width_mm * float(prep.phi[0])
     p_local = float(prep.inp.pressure_local[0])
@@ -596,10 +615,22 @@ def simulate_block(
     F_run_in = params.mu_dry * p_local * elements["run_in_length_mm"].to_numpy() * w_eff_mm * 1e-6
     elements["run_in_force_N"] = F_run_in
     elements["regime"] = _regime(F_run_in / F, F_visc / F)
-    FN_tot = float(F_N.sum())
-    F_tot = float(F.sum())
-    wet_tot = float(wet_len_mm.sum())
-    block = {
+    return elements
+
+
+def _block_totals(
+    geometry: BlockGeometry, elements: pd.DataFrame, params: DryWetParameters, prep: _Prepared
+) -> dict[str, Any]:
+    """Block sums of :func:`simulate_block`: forces, areas, ``mu`` and the regime."""
+    w_eff_mm = geometry.width_mm * float(prep.phi[0])
+    p_local = float(prep.inp.pressure_local[0])
+    F_visc = elements["viscous_force_N"].to_numpy()
+    F_bnd = elements["boundary_force_N"].to_numpy()
+    F_run_in = elements["run_in_force_N"].to_numpy()
+    FN_tot = float(elements["normal_force_N"].to_numpy().sum())
+    F_tot = float(elements["friction_force_N"].to_numpy().sum())
+    wet_tot = float(elements["wet_length_mm"].to_numpy().sum())
+    return {
         "mu": F_tot / FN_tot,
         "mu_dry": params.mu_dry,
         "mu_wet": float((F_visc.sum() + F_bnd.sum()) / (p_local * wet_tot * w_eff_mm * 1e-6))
@@ -607,7 +638,7 @@ def simulate_block(
         else 0.0,
         "friction_force_N": F_tot,
         "normal_force_N": FN_tot,
-        "dry_force_N": float(F_dry.sum()),
+        "dry_force_N": float(elements["dry_force_N"].to_numpy().sum()),
         "viscous_force_N": float(F_visc.sum()),
         "boundary_force_N": float(F_bnd.sum()),
         "dry_area_mm2": float(elements["dry_area_mm2"].sum()),
@@ -618,9 +649,13 @@ def simulate_block(
         "run_in_force_N": float(F_run_in.sum()),
         "regime": str(_regime(np.array(F_run_in.sum() / F_tot), np.array(F_visc.sum() / F_tot))),
     }
+
+
+def _block_profile(conditions: Conditions, prep: _Prepared, res: MarchOutput) -> pd.DataFrame:
+    """Per-cell profile along the block of :func:`simulate_block` (one condition)."""
     grid = prep.grid
     centres = 0.5 * (grid.nodes_m[1:] + grid.nodes_m[:-1]) * 1e3
-    profile = pd.DataFrame(
+    return pd.DataFrame(
         {
             "x_mm": centres,
             "element": grid.element_of_cell,
@@ -630,13 +665,6 @@ def simulate_block(
             "x_end_mm": grid.nodes_m[1:] * 1e3,
             "surface_temperature_C": conditions.temperature_C + res.theta[0],
         }
-    )
-    return BlockFriction(
-        conditions=conditions,
-        geometry=geometry,
-        elements=elements,
-        block=block,
-        profile=profile,
     )
 
 

@@ -12,19 +12,15 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from friction_model._fitting import as_float_array
 from friction_model.constants import ICE, IceProperties
 
 __all__ = ["dry_run_in_length", "flash_temperature_rise"]
 
 
 def _check_arrays(**arrays: ArrayLike) -> dict[str, np.ndarray]:
-    out = {}
-    for name, value in arrays.items():
-        arr = np.asarray(value, dtype=float)
-        if not np.all(np.isfinite(arr)):
-            raise ValueError(f"{name} must be finite, got {name}={value!r}")
-        out[name] = arr
-    return out
+    """Every array as float, each checked finite by :func:`.as_float_array`."""
+    return {name: as_float_array(name, value) for name, value in arrays.items()}
 
 
 def flash_temperature_rise(

@@ -34,22 +34,20 @@ import math
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
+import pandas as pd
 from numpy.typing import ArrayLike
 
 from friction_model._fitting import (
     as_float_array,
-    check_real,
     covariance_from_jacobian,
     grid_local_minima,
     refine_nonlinear,
     weighted_lstsq_batched,
 )
-
-if TYPE_CHECKING:
-    import pandas as pd
+from tir_common.validate import check_real
 
 logger = logging.getLogger(__name__)
 
@@ -699,8 +697,6 @@ class FitResult:
         pandas.DataFrame
             Columns ``param``, ``value``, ``stderr`` and ``fixed``, one row per parameter.
         """
-        import pandas as pd
-
         return pd.DataFrame(
             {
                 "param": list(self.params),
@@ -822,6 +818,47 @@ def fit_law(
     ):
         raise TypeError(f"law_cls must be a concrete FrictionLaw subclass, got {law_cls!r}")
     name = law_cls.__name__
+    v, y, pressure = _fit_data(law_cls, v_rel_mps, mu, pressure_Pa)
+    n = v.size
+    sqrt_w, absolute = _fit_weights(sigma, absolute_sigma, n)
+    fixed_vals, free = _fit_fixed(law_cls, fixed)
+    need = len(free) + (0 if absolute else 1)
+    if n < need:
+        raise ValueError(
+            f"too few points: fitting {len(free)} free parameter(s) {free} of {name} needs at "
+            f"least {need} data points, got {n}"
+        )
+    problem = _FitProblem(law_cls, v, y, sqrt_w, pressure, fixed_vals, free)
+    start_given = _resolve_p0(p0, free, name)
+    if all(k in law_cls._linear for k in free):
+        params, J = _fit_linear(problem)
+    else:
+        params, J = _fit_nonlinear(problem, start_given)
+    return _fit_result(problem, params, J, absolute)
+
+
+@dataclass(frozen=True)
+class _FitProblem:
+    """What :func:`fit_law` fits: the law, the checked data and the fixed parameters."""
+
+    law_cls: type[FrictionLaw]
+    v: np.ndarray  # sliding velocities, m/s
+    y: np.ndarray  # measured friction coefficients
+    sqrt_w: np.ndarray  # residual weights 1 / sigma
+    pressure: np.ndarray | None  # Pa, for pressure-dependent laws
+    fixed_vals: dict[str, float]
+    free: tuple[str, ...]
+
+    def model(self, theta: Mapping[str, float]) -> np.ndarray:
+        """The law's ``mu`` at the data for parameter values ``theta`` (all of them)."""
+        names = self.law_cls.param_names
+        return self.law_cls._formula(self.v, [theta[k] for k in names], self.pressure)
+
+
+def _fit_data(
+    law_cls: type[FrictionLaw], v_rel_mps: ArrayLike, mu: ArrayLike, pressure_Pa: ArrayLike | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Checked, flattened velocities and coefficients, and the pressure broadcast to them."""
     v = as_float_array("v_rel_mps", v_rel_mps)
     y = as_float_array("mu", mu)
     if v.shape != y.shape:
@@ -829,7 +866,6 @@ def fit_law(
     v, y = v.ravel(), y.ravel()
     n = v.size
     law_cls._check_v(v)
-
     pressure = law_cls._pressure(pressure_Pa)
     if pressure is not None:
         try:
@@ -839,25 +875,34 @@ def fit_law(
                 "pressure_Pa must be a scalar or have the shape of v_rel_mps "
                 f"{(n,)}, got shape {pressure.shape}"
             ) from None
+    return v, y, pressure
 
+
+def _fit_weights(
+    sigma: ArrayLike | None, absolute_sigma: bool | None, n: int
+) -> tuple[np.ndarray, bool]:
+    """Residual weights ``1 / sigma`` (ones without sigma) and whether sigma is absolute."""
     if sigma is None:
         if absolute_sigma:
             raise ValueError("absolute_sigma=True needs sigma, got sigma=None")
-        sqrt_w = np.ones(n)
-        absolute = False
-    else:
-        s = as_float_array("sigma", sigma)
-        try:
-            s = np.broadcast_to(s, (n,))
-        except ValueError:
-            raise ValueError(
-                f"sigma must be a scalar or have the shape of mu {(n,)}, got shape {s.shape}"
-            ) from None
-        if np.any(s <= 0):
-            raise ValueError(f"sigma must be > 0, got min(sigma)={s.min()!r}")
-        sqrt_w = 1.0 / s
-        absolute = True if absolute_sigma is None else bool(absolute_sigma)
+        return np.ones(n), False
+    s = as_float_array("sigma", sigma)
+    try:
+        s = np.broadcast_to(s, (n,))
+    except ValueError:
+        raise ValueError(
+            f"sigma must be a scalar or have the shape of mu {(n,)}, got shape {s.shape}"
+        ) from None
+    if np.any(s <= 0):
+        raise ValueError(f"sigma must be > 0, got min(sigma)={s.min()!r}")
+    return 1.0 / s, True if absolute_sigma is None else bool(absolute_sigma)
 
+
+def _fit_fixed(
+    law_cls: type[FrictionLaw], fixed: Mapping[str, float] | None
+) -> tuple[dict[str, float], tuple[str, ...]]:
+    """Checked values of the fixed parameters, and the names of the free ones."""
+    name = law_cls.__name__
     fixed_vals: dict[str, float] = {}
     for key, value in (fixed or {}).items():
         if key not in law_cls.param_names:
@@ -871,68 +916,93 @@ def fit_law(
     free = tuple(k for k in law_cls.param_names if k not in fixed_vals)
     if not free:
         raise ValueError(f"nothing to fit: all parameters of {name} are fixed")
-    need = len(free) + (0 if absolute else 1)
-    if n < need:
-        raise ValueError(
-            f"too few points: fitting {len(free)} free parameter(s) {free} of {name} needs at "
-            f"least {need} data points, got {n}"
+    return fixed_vals, free
+
+
+def _fit_linear(fp: _FitProblem) -> tuple[dict[str, float], np.ndarray]:
+    """Exact weighted linear least squares when every free parameter enters linearly.
+
+    Returns the parameters and the weighted Jacobian of the model in the free parameters.
+    """
+    law_cls, n = fp.law_cls, fp.v.size
+    (params,) = law_cls._start(fp.v, fp.y, fp.sqrt_w, fp.pressure, fp.fixed_vals)
+    nonlinear = {k: fp.fixed_vals[k] for k in law_cls.param_names if k not in law_cls._linear}
+    cols = dict(zip(law_cls._linear, law_cls._basis(fp.v, nonlinear, fp.pressure), strict=True))
+    J = np.stack([np.broadcast_to(cols[k], (n,)) * fp.sqrt_w for k in fp.free], axis=-1)
+    return params, J
+
+
+def _nonlinear_starts(fp: _FitProblem, start_given: dict[str, float]) -> list[dict[str, float]]:
+    """Starting values: the given ones when complete, else the law's grid search.
+
+    The grid search sees at most ``_N_START`` points spread over the sorted velocities and
+    returns the best ``_N_STARTS`` local minima; given values override theirs.
+    """
+    if len(start_given) == len(fp.free):
+        return [{**fp.fixed_vals, **start_given}]
+    n = fp.v.size
+    sub = slice(None)
+    if n > _N_START:
+        sub = np.argsort(fp.v, kind="stable")[np.linspace(0, n - 1, _N_START).astype(int)]
+    starts = fp.law_cls._start(
+        fp.v[sub],
+        fp.y[sub],
+        fp.sqrt_w[sub],
+        None if fp.pressure is None else fp.pressure[sub],
+        fp.fixed_vals,
+        n_starts=_N_STARTS,
+    )
+    return [{**start, **start_given} for start in starts]
+
+
+def _fit_nonlinear(
+    fp: _FitProblem, start_given: dict[str, float]
+) -> tuple[dict[str, float], np.ndarray]:
+    """Levenberg-Marquardt from each start; the lowest cost wins.
+
+    Returns the parameters and the weighted Jacobian at the optimum.
+    """
+    name = fp.law_cls.__name__
+    starts = _nonlinear_starts(fp, start_given)
+
+    def residuals(x: np.ndarray) -> np.ndarray:
+        theta = {**fp.fixed_vals, **dict(zip(fp.free, x, strict=True))}
+        return fp.sqrt_w * (fp.model(theta) - fp.y)
+
+    best = None
+    for i, start in enumerate(starts):
+        try:
+            refined = refine_nonlinear(
+                residuals, np.array([start[k] for k in fp.free]), law_name=name
+            )
+        except RuntimeError:
+            if i == len(starts) - 1 and best is None:
+                raise
+            continue
+        if best is None or refined.cost < best.cost:
+            best = refined
+    assert best is not None
+    if not best.converged:
+        warnings.warn(
+            f"fit of {name} stopped at the evaluation limit ({best.nfev}) before "
+            "converging; the data determine the parameters poorly (check stderr)",
+            UserWarning,
+            stacklevel=3,  # the caller of fit_law
         )
-    start_given = _resolve_p0(p0, free, name)
+    params = {**fp.fixed_vals, **dict(zip(fp.free, (float(xi) for xi in best.x), strict=True))}
+    return params, best.jac
 
-    if all(k in law_cls._linear for k in free):
-        (params,) = law_cls._start(v, y, sqrt_w, pressure, fixed_vals)
-        nonlinear = {k: fixed_vals[k] for k in law_cls.param_names if k not in law_cls._linear}
-        cols = dict(zip(law_cls._linear, law_cls._basis(v, nonlinear, pressure), strict=True))
-        J = np.stack([np.broadcast_to(cols[k], (n,)) * sqrt_w for k in free], axis=-1)
-    else:
-        if len(start_given) == len(free):
-            starts = [{**fixed_vals, **start_given}]
-        else:
-            sub = slice(None)
-            if n > _N_START:
-                sub = np.argsort(v, kind="stable")[np.linspace(0, n - 1, _N_START).astype(int)]
-            starts = law_cls._start(
-                v[sub],
-                y[sub],
-                sqrt_w[sub],
-                None if pressure is None else pressure[sub],
-                fixed_vals,
-                n_starts=_N_STARTS,
-            )
-            starts = [{**start, **start_given} for start in starts]
 
-        def residuals(x: np.ndarray) -> np.ndarray:
-            theta = {**fixed_vals, **dict(zip(free, x, strict=True))}
-            model = law_cls._formula(v, [theta[k] for k in law_cls.param_names], pressure)
-            return sqrt_w * (model - y)
-
-        best = None
-        for i, start in enumerate(starts):
-            try:
-                refined = refine_nonlinear(
-                    residuals, np.array([start[k] for k in free]), law_name=name
-                )
-            except RuntimeError:
-                if i == len(starts) - 1 and best is None:
-                    raise
-                continue
-            if best is None or refined.cost < best.cost:
-                best = refined
-        assert best is not None
-        if not best.converged:
-            warnings.warn(
-                f"fit of {name} stopped at the evaluation limit ({best.nfev}) before "
-                "converging; the data determine the parameters poorly (check stderr)",
-                UserWarning,
-                stacklevel=2,
-            )
-        J = best.jac
-        params = {**fixed_vals, **dict(zip(free, (float(xi) for xi in best.x), strict=True))}
-
+def _fit_result(
+    fp: _FitProblem, params: dict[str, float], J: np.ndarray, absolute: bool
+) -> FitResult:
+    """Residuals, covariance (scaled by ``chi2 / dof`` unless absolute) and the fitted law."""
+    law_cls, free = fp.law_cls, fp.free
+    name = law_cls.__name__
+    n = fp.v.size
     params = {k: float(params[k]) for k in law_cls.param_names}
-    model = law_cls._formula(v, [params[k] for k in law_cls.param_names], pressure)
-    resid = y - model
-    chi2 = float(np.sum((sqrt_w * resid) ** 2))
+    resid = fp.y - fp.model(params)
+    chi2 = float(np.sum((fp.sqrt_w * resid) ** 2))
     dof = n - len(free)
     scale = 1.0 if absolute else chi2 / dof
     cov_free = covariance_from_jacobian(J, scale=scale, names=free)
@@ -953,7 +1023,7 @@ def fit_law(
         rmse=float(np.sqrt(np.mean(resid**2))),
         n_points=n,
         dof=dof,
-        fixed=tuple(k for k in law_cls.param_names if k in fixed_vals),
+        fixed=tuple(k for k in law_cls.param_names if k in fp.fixed_vals),
         absolute_sigma=absolute,
     )
 

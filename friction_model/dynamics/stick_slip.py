@@ -30,7 +30,7 @@ from friction_model.contact.laws import ArctanExponentialLaw, fit_law
 from friction_model.dynamics._common import velocity_ramp
 from friction_model.dynamics.element_step import modulus_ratio
 from friction_model.dynamics.timoshenko import TimoshenkoParams, _system, simulate_timoshenko
-from friction_model.identification.table_4_6 import table_4_6_targets
+from friction_model.thesis_data import table_4_6_targets
 
 logger = logging.getLogger(__name__)
 

@@ -240,48 +240,15 @@ def contact_from_pipeline(
         raise ValueError(f"area_tolerance must lie in [0, 1), got {area_tolerance=}")
     if normal_force_N is not None and not (math.isfinite(normal_force_N) and normal_force_N > 0):
         raise ValueError(f"normal_force_N must be a finite number > 0, got {normal_force_N=}")
-    n_el = geometry.n_elements
     lengths = geometry.element_lengths
-
-    in_view = _bool_column(ftab["block_in_view"])
-    n_contact = pd.to_numeric(ftab["n_elements_in_contact"], errors="coerce").to_numpy()
-    candidates = set(ftab.loc[in_view & (n_contact >= n_el), "frame"].astype(int))
-    inside = _frames_inside(ftab, in_view, geometry.length_mm, image_width_mm)
-    if inside is not None:
-        candidates &= inside
-    el = etab[etab["frame"].astype(int).isin(candidates)]
-    el = el[(el["element"] >= 0) & (el["element"] < n_el)]
-    length_c = pd.to_numeric(el["contact_length_mm"], errors="coerce")
-    el = el.assign(contact_length_mm=length_c.fillna(0.0))
-    wide = el.pivot_table(
-        index="frame", columns="element", values="contact_length_mm", aggfunc="first"
-    )
-    wide = wide.reindex(columns=range(n_el))
-    complete = wide.notna().all(axis=1) & (wide > 0).all(axis=1)
-    wide = wide[complete]
-    if len(wide) == 0:
-        raise ValueError(
-            f"{fsrc}: no frame shows the whole block ({n_el} elements with contact and "
-            "block_in_view true); cannot average the contact"
-        )
-    area_block = (
-        pd.to_numeric(ftab.set_index("frame")["contact_area_mm2"], errors="coerce")
-        .groupby(level=0)
-        .first()
-        .reindex(wide.index)
-    )
-    keep = area_block >= (1.0 - area_tolerance) * float(area_block.median())
-    wide = wide[keep.to_numpy()]
+    wide, el = _whole_block_frames(ftab, etab, geometry, image_width_mm, fsrc)
+    wide = _drop_partly_outside(wide, ftab, area_tolerance)
     if len(wide) < min_frames:
         raise ValueError(
             f"{fsrc}: {len(wide)} frame(s) show the whole block, need min_frames={min_frames}"
         )
-    used = el[el["frame"].isin(wide.index)]
     if visible_width_mm is None:
-        ratio = pd.to_numeric(used["contact_area_mm2"], errors="coerce") / used[
-            "contact_length_mm"
-        ].where(used["contact_length_mm"] > 0)
-        visible_width_mm = float(np.nanmedian(ratio.to_numpy(float)))
+        visible_width_mm = _visible_width(el[el["frame"].isin(wide.index)])
     if not (math.isfinite(visible_width_mm) and visible_width_mm > 0):
         raise ValueError(f"{esrc}: cannot derive the visible block width from the element rows")
 
@@ -311,6 +278,66 @@ def contact_from_pipeline(
         n_frames=len(wide),
         frames=tuple(int(f) for f in wide.index),
     )
+
+
+def _whole_block_frames(
+    ftab: pd.DataFrame,
+    etab: pd.DataFrame,
+    geometry: BlockGeometry,
+    image_width_mm: float | None,
+    fsrc: str,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Contact length per frame (rows) and element (columns) of the frames showing the block.
+
+    A frame counts when the block is in view, every element has a row with contact and the
+    block lies inside the image (:func:`_frames_inside`). Also returns the element rows of
+    the candidate frames (contact length NaN read as 0).
+    """
+    n_el = geometry.n_elements
+    in_view = _bool_column(ftab["block_in_view"])
+    n_contact = pd.to_numeric(ftab["n_elements_in_contact"], errors="coerce").to_numpy()
+    candidates = set(ftab.loc[in_view & (n_contact >= n_el), "frame"].astype(int))
+    inside = _frames_inside(ftab, in_view, geometry.length_mm, image_width_mm)
+    if inside is not None:
+        candidates &= inside
+    el = etab[etab["frame"].astype(int).isin(candidates)]
+    el = el[(el["element"] >= 0) & (el["element"] < n_el)]
+    length_c = pd.to_numeric(el["contact_length_mm"], errors="coerce")
+    el = el.assign(contact_length_mm=length_c.fillna(0.0))
+    wide = el.pivot_table(
+        index="frame", columns="element", values="contact_length_mm", aggfunc="first"
+    )
+    wide = wide.reindex(columns=range(n_el))
+    complete = wide.notna().all(axis=1) & (wide > 0).all(axis=1)
+    wide = wide[complete]
+    if len(wide) == 0:
+        raise ValueError(
+            f"{fsrc}: no frame shows the whole block ({n_el} elements with contact and "
+            "block_in_view true); cannot average the contact"
+        )
+    return wide, el
+
+
+def _drop_partly_outside(
+    wide: pd.DataFrame, ftab: pd.DataFrame, area_tolerance: float
+) -> pd.DataFrame:
+    """Frames whose block contact area is at least ``1 - area_tolerance`` of the median."""
+    area_block = (
+        pd.to_numeric(ftab.set_index("frame")["contact_area_mm2"], errors="coerce")
+        .groupby(level=0)
+        .first()
+        .reindex(wide.index)
+    )
+    keep = area_block >= (1.0 - area_tolerance) * float(area_block.median())
+    return wide[keep.to_numpy()]
+
+
+def _visible_width(used: pd.DataFrame) -> float:
+    """Median contact area over contact length of the element rows, mm."""
+    ratio = pd.to_numeric(used["contact_area_mm2"], errors="coerce") / used[
+        "contact_length_mm"
+    ].where(used["contact_length_mm"] > 0)
+    return float(np.nanmedian(ratio.to_numpy(float)))
 
 
 def _frames_inside(
@@ -569,6 +596,56 @@ class LeverArmFit:
         return out
 
 
+def _lever_arm_data(
+    phi_rad: np.ndarray, lever_arm_m: np.ndarray, sigma_m: np.ndarray | float | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """Finite angle and lever-arm pairs, their weights ``1 / sigma``, and whether sigma is given.
+
+    Raises ValueError for mismatched lengths, a bad ``sigma_m`` or fewer than 5 finite pairs.
+    """
+    phi = np.asarray(phi_rad, dtype=float).ravel()
+    e = np.asarray(lever_arm_m, dtype=float).ravel()
+    if phi.shape != e.shape:
+        raise ValueError(
+            f"phi_rad and lever_arm_m must have the same length, got {phi.size} and {e.size}"
+        )
+    ok = np.isfinite(phi) & np.isfinite(e)
+    if sigma_m is None:
+        w = np.ones_like(phi)
+        absolute = False
+    else:
+        s = np.broadcast_to(np.asarray(sigma_m, dtype=float), phi.shape)
+        if np.any(~np.isfinite(s[ok])) or np.any(s[ok] <= 0):
+            raise ValueError("sigma_m must be finite and > 0")
+        w = 1.0 / s
+        absolute = True
+    phi, e, w = phi[ok], e[ok], w[ok]
+    if phi.size < 5:
+        raise ValueError(f"fit_lever_arm needs at least 5 finite points, got {phi.size}")
+    return phi, e, w, absolute
+
+
+def _lever_arm_start(
+    a_abs: np.ndarray, e_abs: np.ndarray, w: np.ndarray, ell: float
+) -> tuple[np.ndarray, float]:
+    """Starting e1..e4: a grid over (e1, e2) with (a, b) by weighted linear least squares.
+
+    Returns the start and its e2 (which sets the scale of e2 in the refinement).
+    """
+    best = (np.inf, 0.0, 1.0, 0.0, 0.0)
+    phi_max = max(float(a_abs.max()), 1e-3)
+    for e2 in np.geomspace(0.3 / phi_max, 300.0 / phi_max, 41):
+        for e1 in np.linspace(-5.0, 40.0, 46):
+            g = np.arctan(-e1 + e2 * a_abs) / math.pi
+            X = np.stack([np.ones_like(g), g], axis=1) * w[:, None]
+            coef, *_ = np.linalg.lstsq(X, e_abs * w, rcond=None)
+            sse = float(np.sum((X @ coef - e_abs * w) ** 2))
+            if sse < best[0]:
+                best = (sse, e1, e2, float(coef[0]), float(coef[1]))
+    _, e1_0, e2_0, a0, b0 = best
+    return np.array([e1_0, e2_0, 0.25 * ell - a0, 0.5 * ell - b0]), e2_0
+
+
 def fit_lever_arm(
     phi_rad: np.ndarray,
     lever_arm_m: np.ndarray,
@@ -625,48 +702,17 @@ def fit_lever_arm(
     >>> round(fit.e1, 3), round(fit.e2_per_rad, 3)
     (12.0, 28.0)
     """
-    phi = np.asarray(phi_rad, dtype=float).ravel()
-    e = np.asarray(lever_arm_m, dtype=float).ravel()
-    if phi.shape != e.shape:
-        raise ValueError(
-            f"phi_rad and lever_arm_m must have the same length, got {phi.size} and {e.size}"
-        )
     if not (math.isfinite(element_length_m) and element_length_m > 0):
         raise ValueError(f"element_length_m must be a finite number > 0, got {element_length_m=}")
     if not 0.0 < level < 1.0:
         raise ValueError(f"level must lie in (0, 1), got {level=}")
-    ok = np.isfinite(phi) & np.isfinite(e)
-    if sigma_m is None:
-        w = np.ones_like(phi)
-        absolute = False
-    else:
-        s = np.broadcast_to(np.asarray(sigma_m, dtype=float), phi.shape)
-        if np.any(~np.isfinite(s[ok])) or np.any(s[ok] <= 0):
-            raise ValueError("sigma_m must be finite and > 0")
-        w = 1.0 / s
-        absolute = True
-    phi, e, w = phi[ok], e[ok], w[ok]
+    phi, e, w, absolute = _lever_arm_data(phi_rad, lever_arm_m, sigma_m)
     n = phi.size
-    if n < 5:
-        raise ValueError(f"fit_lever_arm needs at least 5 finite points, got {n}")
     sgn = np.where(phi < 0, -1.0, 1.0)
     a_abs, e_abs = np.abs(phi), sgn * e  # Eq. 5.22: e(-phi) = -e(phi)
     ell = float(element_length_m)
     half = 0.5 * ell
-
-    # starting values: grid over (e1, e2), (a, b) by weighted linear least squares
-    best = (np.inf, 0.0, 1.0, 0.0, 0.0)
-    phi_max = max(float(a_abs.max()), 1e-3)
-    for e2 in np.geomspace(0.3 / phi_max, 300.0 / phi_max, 41):
-        for e1 in np.linspace(-5.0, 40.0, 46):
-            g = np.arctan(-e1 + e2 * a_abs) / math.pi
-            X = np.stack([np.ones_like(g), g], axis=1) * w[:, None]
-            coef, *_ = np.linalg.lstsq(X, e_abs * w, rcond=None)
-            sse = float(np.sum((X @ coef - e_abs * w) ** 2))
-            if sse < best[0]:
-                best = (sse, e1, e2, float(coef[0]), float(coef[1]))
-    _, e1_0, e2_0, a0, b0 = best
-    x0 = np.array([e1_0, e2_0, 0.25 * ell - a0, half - b0])
+    x0, e2_0 = _lever_arm_start(a_abs, e_abs, w, ell)
     lo = np.array([-1e3, 0.0, -half, -half])
     hi = np.array([1e3, 1e4, half, half])
     x0 = np.clip(x0, lo + 1e-12 * (hi - lo), hi - 1e-12 * (hi - lo))

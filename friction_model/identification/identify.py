@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 from scipy import stats
+from scipy.linalg import expm
 from scipy.optimize import brentq, least_squares
 
 from friction_model._fitting import covariance_from_jacobian
@@ -456,12 +457,10 @@ def linear_element_response(
             if t_next is not None:
                 x = x_eq + np.real(vec @ (np.exp(lam * t_next) * coef))
         else:  # (nearly) defective: matrix exponential per sample
-            import scipy.linalg
-
             for k, tk in enumerate(tt):
-                out[i0 + k] = x_eq[0] + (scipy.linalg.expm(a * tk) @ dev)[0]
+                out[i0 + k] = x_eq[0] + (expm(a * tk) @ dev)[0]
             if t_next is not None:
-                x = x_eq + scipy.linalg.expm(a * t_next) @ dev
+                x = x_eq + expm(a * t_next) @ dev
     return out
 
 
@@ -853,75 +852,15 @@ def identify_parameters(
     """
     base = base or SdofParams()
     series = list(series)
-    if not series and steady is None:
-        raise ValueError(
-            "identify_parameters needs deflection series, a steady characteristic or both"
-        )
-    if not isinstance(law, FrictionLaw):
-        raise TypeError(f"law must be a FrictionLaw, got {type(law).__name__}")
-    free = tuple(free)
-    unknown = [k for k in free if k not in ELEMENT_PARAMETERS]
-    if unknown:
-        raise ValueError(
-            f"free must name element parameters {list(ELEMENT_PARAMETERS)}, got {unknown}"
-        )
-    if not series and free:
-        free = ()  # a steady characteristic alone says nothing about the element
-    law_free = tuple(law.param_names if law_free is None else law_free)
-    bad = [k for k in law_free if k not in law.param_names]
-    if bad:
-        raise ValueError(
-            f"law_free must name parameters of {type(law).__name__} {law.param_names}, got {bad}"
-        )
-    if ci not in ("profile", "bootstrap", "jacobian"):
-        raise ValueError(f"ci must be 'profile', 'bootstrap' or 'jacobian', got {ci!r}")
-    if not 0.0 < level < 1.0:
-        raise ValueError(f"level must lie in (0, 1), got {level=}")
+    free, law_free = _check_request(series, steady, law, free, law_free, ci, level)
     all_free = free + law_free
-    if not all_free:
-        raise ValueError("nothing to fit: free and law_free are empty")
-
-    # starting values of the law from the steady characteristic
-    if steady is not None and law_free:
-        fixed = {k: v for k, v in law.params.items() if k not in law_free}
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            start = fit_law(
-                type(law), steady.velocity_mps, steady.mu, sigma=steady.sigma, fixed=fixed or None
-            )
-        law = start.law
+    law = _law_start(law, steady, law_free)
     prob = _Problem(series, steady, base, law, relaxation_time_s, all_free, tip_velocity_feedback)
     x0 = np.array([prob.values[k] for k in all_free], dtype=float)
     x0 = np.clip(x0, prob.lo, prob.hi)
-
-    # coarse search over E (the ringing frequency makes the cost multimodal in E)
     if "youngs_modulus_Pa" in free:
-        jE = all_free.index("youngs_modulus_Pa")
-        others = np.array([i for i in range(len(all_free)) if i != jE], dtype=int)
-        best = (np.inf, x0)
-        for f in np.geomspace(0.25, 4.0, 13):
-            x = x0.copy()
-            x[jE] = x0[jE] * f
-            if others.size:
-                x, res = _solve(prob, x, idx=others, max_nfev=30)
-                cost = float(np.sum(res.fun**2))
-            else:
-                cost = float(np.sum(prob.residuals(x) ** 2))
-            if cost < best[0]:
-                best = (cost, x)
-        x0 = best[1]
-
-    x_hat, res = _solve(prob, x0)
-    # observation errors per data set from the residuals, then refit with those weights
-    for _ in range(2):
-        parts = prob.parts(prob.full(x_hat))
-        n_sets = len(series)
-        for i, s in enumerate(series):
-            if s.sigma_deg is None:
-                prob.sigma[i] = max(float(np.sqrt(np.mean(parts[i] ** 2))), 1e-9)
-        if steady is not None and steady.sigma is None:
-            prob.sigma_steady = max(float(np.sqrt(np.mean(parts[n_sets] ** 2))), 1e-12)
-        x_hat, res = _solve(prob, x_hat)
+        x0 = _modulus_search(prob, x0, all_free)
+    x_hat, res = _fit_with_estimated_errors(prob, x0)
     cost_min = float(np.sum(res.fun**2))
     n_obs = prob.n_obs
     dof = max(n_obs - len(all_free), 1)
@@ -937,9 +876,7 @@ def identify_parameters(
         )
     se = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
     q = float(stats.t.ppf(0.5 + 0.5 * level, dof))
-    lows = x_hat - q * se
-    highs = x_hat + q * se
-    methods = ["jacobian"] * len(all_free)
+    lows, highs, methods = x_hat - q * se, x_hat + q * se, ["jacobian"] * len(all_free)
     if ci == "profile":
         delta = float(stats.chi2.ppf(level, 1))
         for j, name in enumerate(all_free):
@@ -949,7 +886,6 @@ def identify_parameters(
     elif ci == "bootstrap":
         lows, highs = _bootstrap(prob, x_hat, level, n_bootstrap, block_length, rng)
         methods = ["bootstrap"] * len(all_free)
-
     vals = prob.full(x_hat)
     units = {k: ELEMENT_PARAMETERS[k][0] if k in ELEMENT_PARAMETERS else "-" for k in all_free}
     estimates = {
@@ -963,13 +899,125 @@ def identify_parameters(
         )
         for j, k in enumerate(all_free)
     }
-    sdof = _sdof_with(base, vals["youngs_modulus_Pa"], vals["loss_factor"])
-    law_fit = prob.law_cls(**{k: vals[k] for k in prob.law_cls.param_names})
+    fitted, sigma, rmse = _fitted_tables(prob, vals)
+    logger.debug("identified %s", {k: e.value for k, e in estimates.items()})
+    return IdentificationResult(
+        estimates=estimates,
+        sdof=_sdof_with(base, vals["youngs_modulus_Pa"], vals["loss_factor"]),
+        law=prob.law_cls(**{k: vals[k] for k in prob.law_cls.param_names}),
+        relaxation_time_s=float(vals["relaxation_time_s"]),
+        level=float(level),
+        sigma=sigma,
+        rmse=rmse,
+        cov=pd.DataFrame(cov, index=list(all_free), columns=list(all_free)),
+        fitted=fitted,
+        n_points=int(n_obs),
+    )
+
+
+def _check_request(
+    series: list[DeflectionSeries],
+    steady: SteadyCharacteristic | None,
+    law: FrictionLaw,
+    free: Sequence[str],
+    law_free: Sequence[str] | None,
+    ci: str,
+    level: float,
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Check the request of :func:`identify_parameters`; the element and law parameters to fit.
+
+    Without deflection series no element parameter is fitted (a steady characteristic alone
+    says nothing about the element).
+    """
+    if not series and steady is None:
+        raise ValueError(
+            "identify_parameters needs deflection series, a steady characteristic or both"
+        )
+    if not isinstance(law, FrictionLaw):
+        raise TypeError(f"law must be a FrictionLaw, got {type(law).__name__}")
+    free = tuple(free)
+    unknown = [k for k in free if k not in ELEMENT_PARAMETERS]
+    if unknown:
+        raise ValueError(
+            f"free must name element parameters {list(ELEMENT_PARAMETERS)}, got {unknown}"
+        )
+    if not series and free:
+        free = ()
+    law_free = tuple(law.param_names if law_free is None else law_free)
+    bad = [k for k in law_free if k not in law.param_names]
+    if bad:
+        raise ValueError(
+            f"law_free must name parameters of {type(law).__name__} {law.param_names}, got {bad}"
+        )
+    if ci not in ("profile", "bootstrap", "jacobian"):
+        raise ValueError(f"ci must be 'profile', 'bootstrap' or 'jacobian', got {ci!r}")
+    if not 0.0 < level < 1.0:
+        raise ValueError(f"level must lie in (0, 1), got {level=}")
+    if not free + law_free:
+        raise ValueError("nothing to fit: free and law_free are empty")
+    return free, law_free
+
+
+def _law_start(
+    law: FrictionLaw, steady: SteadyCharacteristic | None, law_free: tuple[str, ...]
+) -> FrictionLaw:
+    """The law fitted to the steady characteristic (the free parameters' starting values)."""
+    if steady is None or not law_free:
+        return law
+    fixed = {k: v for k, v in law.params.items() if k not in law_free}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        start = fit_law(
+            type(law), steady.velocity_mps, steady.mu, sigma=steady.sigma, fixed=fixed or None
+        )
+    return start.law
+
+
+def _modulus_search(prob: _Problem, x0: np.ndarray, all_free: tuple[str, ...]) -> np.ndarray:
+    """Coarse search over E from 1/4 to 4 times its start, the others fitted briefly.
+
+    The ringing frequency makes the cost multimodal in E.
+    """
+    jE = all_free.index("youngs_modulus_Pa")
+    others = np.array([i for i in range(len(all_free)) if i != jE], dtype=int)
+    best = (np.inf, x0)
+    for f in np.geomspace(0.25, 4.0, 13):
+        x = x0.copy()
+        x[jE] = x0[jE] * f
+        if others.size:
+            x, res = _solve(prob, x, idx=others, max_nfev=30)
+            cost = float(np.sum(res.fun**2))
+        else:
+            cost = float(np.sum(prob.residuals(x) ** 2))
+        if cost < best[0]:
+            best = (cost, x)
+    return best[1]
+
+
+def _fit_with_estimated_errors(prob: _Problem, x0: np.ndarray) -> tuple[np.ndarray, Any]:
+    """Fit, estimate the errors not given per data set from the residuals, refit (twice)."""
+    x_hat, res = _solve(prob, x0)
+    n_sets = len(prob.series)
+    for _ in range(2):
+        parts = prob.parts(prob.full(x_hat))
+        for i, s in enumerate(prob.series):
+            if s.sigma_deg is None:
+                prob.sigma[i] = max(float(np.sqrt(np.mean(parts[i] ** 2))), 1e-9)
+        if prob.steady is not None and prob.steady.sigma is None:
+            prob.sigma_steady = max(float(np.sqrt(np.mean(parts[n_sets] ** 2))), 1e-12)
+        x_hat, res = _solve(prob, x_hat)
+    return x_hat, res
+
+
+def _fitted_tables(
+    prob: _Problem, vals: Mapping[str, float]
+) -> tuple[dict[str, pd.DataFrame], dict[str, float], dict[str, float]]:
+    """Data against model per data set, with each set's error and RMS residual."""
     angles, mu = prob.models(vals)
     fitted: dict[str, pd.DataFrame] = {}
     sigma: dict[str, float] = {}
     rmse: dict[str, float] = {}
-    for i, s in enumerate(series):
+    for i, s in enumerate(prob.series):
         key = s.name if s.name not in fitted else f"{s.name}_{i}"
         fitted[key] = pd.DataFrame(
             {
@@ -982,25 +1030,14 @@ def identify_parameters(
         m = prob.masks[i]
         rmse[key] = float(np.sqrt(np.mean((angles[i] - s.angle_deg)[m] ** 2)))
         sigma[key] = float(prob.sigma[i])
+    steady = prob.steady
     if steady is not None and mu is not None:
         fitted[steady.name] = pd.DataFrame(
             {"velocity_mps": steady.velocity_mps, "mu": steady.mu, "model_mu": mu}
         )
         rmse[steady.name] = float(np.sqrt(np.mean((mu - steady.mu) ** 2)))
         sigma[steady.name] = float(np.sqrt(np.mean(np.square(prob.sigma_steady))))
-    logger.debug("identified %s", {k: e.value for k, e in estimates.items()})
-    return IdentificationResult(
-        estimates=estimates,
-        sdof=sdof,
-        law=law_fit,
-        relaxation_time_s=float(vals["relaxation_time_s"]),
-        level=float(level),
-        sigma=sigma,
-        rmse=rmse,
-        cov=pd.DataFrame(cov, index=list(all_free), columns=list(all_free)),
-        fitted=fitted,
-        n_points=int(n_obs),
-    )
+    return fitted, sigma, rmse
 
 
 def _bootstrap(

@@ -1,4 +1,4 @@
-"""Reading and validating raw test-rig run CSV files (private helper of ``evaluation``).
+"""Reading and validating raw test-rig run CSV files (the reader of :mod:`friction_model.rig`).
 
 The format (``docs/formats.md``): ``# key: value`` metadata lines, then a column header with
 at least ``time_s, velocity_mps, normal_force_N, friction_force_N`` (optionally
@@ -11,7 +11,6 @@ column header is data row 1) and as the 1-based line of the file.
 from __future__ import annotations
 
 import logging
-import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,6 +25,7 @@ from friction_model._table_io import (
     read_columns,
     read_head,
 )
+from tir_common.schema import Field, FieldError, Schema
 
 __all__ = [
     "OPTIONAL_COLUMNS",
@@ -68,38 +68,30 @@ class RunFormatError(TableFormatError):
     """
 
 
-def _parse_float(value: str, decimal: str = ".") -> float:
-    # the file's decimal mark; a point is accepted too (metadata written by hand)
-    if decimal == "," and "." not in value:
-        value = value.replace(",", ".")
-    number = float(value)
-    if not math.isfinite(number):
-        raise ValueError(value)
-    return number
-
-
-# metadata keys with a type; the converter raises ValueError for a bad value
-_META_TYPES: dict[str, tuple[Any, str]] = {
-    "nominal_area_mm2": (
-        lambda s, d: _check(_parse_float(s, d), lambda x: x > 0),
-        "a number > 0",
+#: Metadata keys with a type; other keys are kept as the stripped text.
+_METADATA = Schema(
+    "metadata",
+    (
+        Field(
+            "nominal_area_mm2",
+            "number",
+            "nominal contact area of the sample, gives the normal pressure",
+            unit="mm^2",
+            low=0,
+            low_open=True,
+        ),
+        Field(
+            "inertial_mass_kg",
+            "number",
+            "mass of carriage and sample, for the inertial force of instationary runs",
+            unit="kg",
+            low=0,
+        ),
+        Field("run", "integer", "number of the run among its repeats"),
+        Field("kind", "choice", "how the run is evaluated", choices=_RUN_KINDS),
     ),
-    "inertial_mass_kg": (
-        lambda s, d: _check(_parse_float(s, d), lambda x: x >= 0),
-        "a number >= 0",
-    ),
-    "run": (lambda s, d: int(s), "an integer"),
-    "kind": (
-        lambda s, d: _check(s.lower(), lambda x: x in _RUN_KINDS),
-        "'steady' or 'instationary'",
-    ),
-}
-
-
-def _check(value: Any, rule: Any) -> Any:
-    if not rule(value):
-        raise ValueError(value)
-    return value
+    closed=False,
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -193,14 +185,16 @@ def _read_metadata(path: Path, head: TableHead) -> dict[str, Any]:
                 f"metadata line, file line {lineno}: expected '# key: value', got {text!r}",
                 line=lineno,
             )
-        if key in _META_TYPES:
-            convert, expected = _META_TYPES[key]
+        if key in _METADATA:
             try:
-                metadata[key] = convert(value, head.dialect.decimal)
-            except ValueError:
+                metadata[key] = _METADATA[key].check(
+                    value, from_text=True, decimal=head.dialect.decimal
+                )
+            except FieldError as exc:
                 raise RunFormatError(
                     path,
-                    f"metadata key '{key}', file line {lineno}: expected {expected}, got {value!r}",
+                    f"metadata key '{key}', file line {lineno}: expected {exc.expected}, "
+                    f"got {value!r}",
                     column=key,
                     line=lineno,
                 ) from None

@@ -188,7 +188,7 @@ def _rig_runs(
     """Step 4: synthetic rig runs with the model's friction as the known truth, evaluated;
     the evaluated mu per velocity against the truth, and the runs that failed."""
     from friction_model import Conditions, friction_table
-    from friction_model.rig.evaluation import evaluate_runs, write_outputs
+    from friction_model.rig import evaluate_runs, write_outputs
     from synthetic.rig import make_raw_run, write_run_csv
 
     runs_dir = out / "rig_runs"

@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         0 when every file was evaluated, 1 when any failed (or a folder held no ``*.csv``).
     """
     # the evaluation is imported when the command runs: 'tir-contact evaluate --help' stays fast
-    from friction_model.rig.evaluation import InstationaryParams, evaluate_folder
+    from friction_model.rig import InstationaryParams, evaluate_folder
 
     result = evaluate_folder(
         args.paths,
