@@ -243,6 +243,30 @@ def test_real_photograph_classes_from_the_renderer(tmp_path, name):
     assert res.summary["camera"] == "follows"
 
 
+def test_bright_static_contact_across_a_lit_band_from_the_renderer(tmp_path):
+    """Bright contact glows wherever light reaches it, the stray light outside the lit zone
+    included: a static three-point contact across a lit band's rim (a clip of the random
+    domain, seed 0 no. 188: 12-bit, 42 % band, camera following) counts only inside the
+    zone. Before the lit zone was found for bright contact, 19 % of the contact counted
+    lay outside the renderer's lit mask, 7 % more than two pixels outside."""
+    from synthetic.domain import sample_specs
+    from synthetic.footage import render_footage
+
+    spec, case = sample_specs(189, seed=0)[188]
+    assert (case, spec.contact_is, spec.camera.lit_shape) == (
+        "tir static three-point", "bright", "band")
+    clip = render_footage(spec, tmp_path / "clip", progress=False)
+    res = analyze_video(clip, options=FAST)
+    truth = pd.read_csv(clip / "ground_truth.csv")
+    true_mm2 = float(truth[truth.element == -1]["contact_area_mm2"].median())
+    measured_mm2 = float(res.frames["contact_area_mm2"].median())
+    # 10 %: the issue's 95th-percentile area target. The glow outside the band added about
+    # 20 % to this 0.7 mm2 contact; what is left (about 7 %) is the ring of soft-rim pixels
+    # that the found and the drawn half-light lines do not share
+    assert measured_mm2 == pytest.approx(true_mm2, rel=0.10)
+    assert res.summary["lit_fraction"] < 0.9  # a zone was found, not the whole frame
+
+
 @pytest.mark.parametrize(("preset", "ratio"), [
     pytest.param("G0", 0.70, marks=pytest.mark.slow), ("G7", 0.25)])
 def test_patchy_block_contact_ratio_from_the_renderer(preset, ratio, tmp_path):

@@ -354,6 +354,39 @@ def noise_model(residuals: list[np.ndarray], levels: np.ndarray,
 #: Bright contact: the free surface is taken as at least this fraction of the contact's
 #: level (the largest 99.9th percentile of a sample).
 BRIGHT_FLOOR = 0.05
+#: Bright contact: a lit zone of the free surface is taken when its median light is at
+#: least this many times the outside's (and the outside holds light at all).
+BRIGHT_LIT_CONTRAST = 2.0
+
+
+def lit_zone_of_surface(free: np.ndarray) -> LitZone:
+    """Bright contact: the lit zone as the free surface shows it, else the whole frame.
+
+    Under bright contact the free surface is dark, but the light escaping it still shows
+    where the TIR light reaches, and contact glows wherever light reaches it, the little
+    light outside the zone included. The zone is found on the free-surface estimate (the
+    contact removed, so that a static glowing contact is not taken for the zone) and kept
+    when its median light is at least :data:`BRIGHT_LIT_CONTRAST` times the outside's; a
+    surface without light (a dark field quantised to 0-1 grey values) or without a clear
+    zone keeps the whole frame.
+
+    Examples
+    --------
+    >>> yy = np.mgrid[:100, :120][0]
+    >>> band = np.where((yy > 30) & (yy < 70), 40.0, 8.0)
+    >>> round(lit_zone_of_surface(band).fraction, 2)
+    0.39
+    >>> lit_zone_of_surface(np.zeros((100, 120))).method
+    'whole frame'
+    """
+    img = np.asarray(free, np.float32)
+    zone = find_lit_zone(img)
+    if zone.method == "found" and zone.mask.any() and not zone.mask.all():
+        inside = float(np.median(img[zone.mask]))
+        outside = float(np.median(img[~zone.mask]))
+        if inside >= BRIGHT_LIT_CONTRAST * max(outside, 1.0):
+            return zone
+    return whole_frame(img.shape)
 
 #: Camera modes: the block passes a fixed camera, or the contact stays in view (a camera that
 #: follows the block, a static test, a single photograph).
@@ -485,7 +518,8 @@ def tir_reference(
     median = _median(frames)  # the moving test and a static free surface both need it
     bright = pixelwise_percentile(frames, q).astype(np.float32) if len(frames) >= 5 else median
     shape = bright.shape
-    if lit is None:
+    find_lit = lit is None
+    if find_lit:
         lit = find_lit_zone(bright) if contact_is == "dark" else whole_frame(shape)
     mask = lit.mask
     if image is not None:
@@ -516,6 +550,12 @@ def tir_reference(
             free, cand = fs.image, fs.candidates
             method = (f"fitted free surface ({len(frames)} frame(s); closing "
                       f"{fs.size_px} px)")
+    if contact_is == "bright" and find_lit:
+        # the lit zone as the free-surface estimate shows it (known limit: the inverted
+        # image the estimate works on takes a strongly vignetted lit zone, or one narrower
+        # than the largest contact, for a held contact and flattens it; --lit-mask then)
+        lit = lit_zone_of_surface(free)
+        mask = lit.mask
     if contact_is == "bright":
         # Bright contact on a dark surface: the surface may carry almost no light (a dark
         # field, quantised to 0-1 grey values), and a darkness against it is noise. Below
