@@ -160,7 +160,7 @@ def full(n_seeds: int, workers: int, only: list[str] | None = None) -> None:
     pool = ProcessPoolExecutor(workers) if workers > 1 else None
     t0 = time.perf_counter()
     try:
-        # the cells the criteria name (5 % noise, size >= 3) first
+        # the cells the acceptance criteria name (5 % noise, size >= 3) first
         for noise in (0.05, 0.01, 0.10):
             for size in (3.0, 10.0, 0.5):
                 for label in effects:

@@ -14,7 +14,8 @@ before and after, and plots measured, base and corrected frequency.
 
 The thesis's 1111 Hz comes from a simulation whose modulus and damping were tuned until a
 stick-slip appeared, so this case reproduces the thesis's argument, not a test of the model.
-The honest comparison (issue 12) starts from the frequency predicted from the one rubber:
+The honest comparison (nothing tuned to the rig) starts from the frequency predicted from
+the one rubber:
 :func:`friction_model.discrepancy.stickslip.predicted_stick_slip_problem` (826 Hz), on which
 the workflow reports an unexplained residual (``tir-contact demo``, docs/friction_model.md).
 

@@ -55,7 +55,7 @@ V0 = 1.0
 K4_CENTRAL, K4_INTERVAL = 50.0, (20.0, 200.0)
 THESIS = {"tip_deflection_mm": 1.6, "tip_slope_deg": 18.1, "bending_angle_deg": 14.0}
 F_RIG_HZ, F_THESIS_SIM_HZ, R_THESIS_MM = 1500.0, 1111.0, 0.625
-# before issue 12: printed Eq. 5.25/5.26, preload distance c_N = E A / d, E fitted to the
+# before the one rubber: printed Eq. 5.25/5.26, preload distance c_N = E A / d, E fitted to the
 # 1.6 mm (1.05 MPa, recomputed below); stick-slip with E fitted to 1111 Hz (6.18 MPa)
 E_BEFORE_PA = 1.05e6
 STEADY_K_I = 1e-3  # damping used only to reach the steady state (which does not depend on it)

@@ -85,7 +85,7 @@ def test_outputs_have_the_issue_columns_and_files(analysed):
 
 
 def test_area_against_ground_truth(analysed):
-    """Median relative error of the block contact area <= 2 % (issue requirement)."""
+    """Median relative error of the block contact area <= 2 % (required)."""
     clip, res = analysed
     frames = pd.read_csv(res / "frames.csv").set_index("frame")
     truth = pd.read_csv(clip / "ground_truth.csv")
@@ -267,7 +267,7 @@ def test_block_that_never_leaves_gets_a_fitted_free_surface(tmp_path):
 
 
 def test_side_view_deflection_against_ground_truth(tmp_path):
-    """Side view through the pipeline: median angle error <= 0.5 deg (issue requirement)."""
+    """Side view through the pipeline: median angle error <= 0.5 deg (required)."""
     folder = _render(tmp_path / "side", view="side", preset="G7")
     res = analyze_video(folder, tmp_path / "out", options=AnalysisOptions(
         overlay_video=True, overlay_frames=2, parquet=False, plots=True))
@@ -316,7 +316,7 @@ def test_side_view_with_a_camera_following_the_block(tmp_path):
     merged = el.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
     err = (merged.deflection_angle_deg - merged.deflection_angle_deg_t).abs()
     assert merged.deflection_angle_deg.notna().mean() >= 0.8
-    assert err.median() <= 0.5  # the issue's side-view accuracy
+    assert err.median() <= 0.5  # the required side-view accuracy
 
 
 def test_batch_on_a_dask_scheduler(clip, tmp_path):

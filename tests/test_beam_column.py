@@ -1,4 +1,4 @@
-"""Beam-column forms of the Timoshenko element (issue 12): Haringx (default), Engesser and
+"""Beam-column forms of the Timoshenko element: Haringx (default), Engesser and
 the printed Eq. 5.25/5.26 (``thesis_literal``).
 
 Independent truths: the closed-form static deflection of a cantilever beam-column under a

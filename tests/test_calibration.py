@@ -21,7 +21,7 @@ def test_targets_are_table_4_6():
 
 
 def test_default_parameters_meet_the_target():
-    # RMSE <= 0.010 per curve (issue 12 target; was 0.015) and the measured direction
+    # RMSE <= 0.010 per curve (required; 0.015 before the one rubber) and the measured direction
     table, rmse = evaluate_on_table_4_6(DryWetParameters())
     for name in ("cold-dry 2.5 bar", "cold-dry 5 bar", "warm-humid 2.5 bar", "warm-humid 5 bar"):
         assert rmse[name] <= 0.010, (name, rmse[name])
@@ -46,9 +46,9 @@ _SHAPE_FAILS = (
     ],
 )
 def test_whole_velocity_shape_of_table_4_6(curve):
-    # Issue 12: the whole 1-7 m/s shape, step by step. Table 4.6's laws A v^-+0.5 + B are
+    # The whole 1-7 m/s shape, step by step. Table 4.6's laws A v^-+0.5 + B are
     # monotone, so every 1 m/s step must change mu in the measured direction, and the change
-    # from 1 to 7 m/s must reach 80 % of the measured one (the issue's target).
+    # from 1 to 7 m/s must reach 80 % of the measured one (required).
     table, _ = evaluate_on_table_4_6(DryWetParameters())
     g = table[table["curve"] == curve].sort_values("velocity_mps")
     mu, target = g["mu_model"].to_numpy(), g["mu_target"].to_numpy()

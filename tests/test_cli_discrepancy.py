@@ -17,7 +17,7 @@ FAST = ["--bootstrap", "30", "--permutations", "99", "--max-effects", "1"]
 
 
 def test_steady_table_names_the_hidden_effect(tmp_path, capsys):
-    # effect size 3 x the 5 % noise: the "must be found" regime
+    # effect size 3 x the 5 % noise: the "must be found" regime
     strength = strength_for_effect_size("humidity_water_layer", 3.0, noise=0.05, grid=GRID)
     table = make_steady_table(GRID, effects={"humidity_water_layer": strength}, rng=4)
     path = write_table(table, tmp_path / "steady.csv")
@@ -28,7 +28,7 @@ def test_steady_table_names_the_hidden_effect(tmp_path, capsys):
     result = json.loads((tmp_path / "d" / "result.json").read_text())
     assert result["missing_effects"] == ["humidity_water_layer"]
     assert result["gap_after"] <= 0.5 * result["gap_before"]
-    # the criterion: fitted parameter within 25 % of the truth, interval excludes 0
+    # required: fitted parameter within 25 % of the truth, interval excludes 0
     fitted = result["fitted"]["humidity_water_layer"]["parameters"][0]
     assert fitted["value"] == pytest.approx(strength, rel=0.25)
     assert fitted["ci_lower"] > 0

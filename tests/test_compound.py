@@ -1,4 +1,4 @@
-"""One rubber (issue 12): the reference compound and the elastic root of the element.
+"""One rubber for every model: the reference compound and the elastic root of the element.
 
 Independent truths: Gent's relation at Shore A 60 (3.61 MPa, as printed in the thesis's
 Table 4.3 context), the causality relation of a constant-loss solid (tan delta = tan(n pi/2)),
@@ -109,8 +109,8 @@ def test_root_identification_refuses_a_target_below_the_clamped_deflection():
 
 
 def test_reference_g3_case_cannot_reach_the_measured_deflection_by_base_compliance():
-    # issue 12 finding: with the Haringx beam-column and E0 of Shore A 60 the clamped G3
-    # element under 91 N (2.5 bar) already deflects more than the measured 1.6 mm
+    # a finding of the one-rubber model: with the Haringx beam-column and E0 of Shore A 60
+    # the clamped G3 element under 91 N (2.5 bar) already deflects more than the measured 1.6 mm
     p = _element()
     st = steady_beam_column(p, normal_force_N=91.0, mu=0.2936)
     assert st["tip_deflection_m"] > 1.6e-3

@@ -28,8 +28,8 @@ def test_face_real_contact_of_uniform_and_triangular_pressure():
 
 
 def test_contact_ratio_of_g0_and_g7_matches_fig_4_21():
-    # Fig. 4.21: about 70 % (G0) and 25 % (G7), read from the figure (+-0.05 is the issue's
-    # target and about the reading accuracy). Predicted: nothing here is fitted to Fig. 4.21
+    # Fig. 4.21: about 70 % (G0) and 25 % (G7), read from the figure (+-0.05 is the required
+    # accuracy and about the reading accuracy). Predicted: nothing here is fitted to Fig. 4.21
     # (the real-contact law comes from Table 4.6, the rubber from Shore A 60).
     table = reference_contact_ratios(("G0", "G3", "G7"), t_end_s=0.02)
     ratios = table["contact_ratio"].to_numpy()

@@ -279,7 +279,7 @@ def test_element_contact_length(clip):
     _, _, el = clip
     both = el[el.found & el.contact_length_mm_true.notna()]
     err = (both.contact_length_mm - both.contact_length_mm_true).abs()
-    # Issue 5: median abs error <= 0.1 mm (1 px). Measured ~0.005 mm: sub-pixel edges.
+    # Required: median abs error <= 0.1 mm (1 px). Measured ~0.005 mm: sub-pixel edges.
     assert err.median() <= 0.1
     assert err.max() <= 0.1  # every element, also the ones cut by the image border
 
@@ -290,7 +290,7 @@ def test_front_edge_and_front_peak_position(clip):
     assert len(both) > 50
     # Front edge: half-level crossing, step-edge error < 0.1 px; 0.5 px is a binary edge.
     assert (both.front_edge_x_mm - both.front_edge_x_mm_true).abs().median() <= 0.05
-    # Issue 5: the front peak within 1 pixel (median). Measured ~0.01 mm.
+    # Required: the front peak within 1 pixel (median). Measured ~0.01 mm.
     peak = both[both.front_peak_x_mm.notna()]
     assert (peak.front_peak_x_mm - peak.front_peak_x_mm_true).abs().median() <= 0.1
 
@@ -299,7 +299,7 @@ def test_block_area_and_empty_frames(clip):
     _, block, _ = clip
     seen = block[block.contact_area_mm2_true > 0]
     rel = (seen.contact_area_mm2 / seen.contact_area_mm2_true - 1).abs()
-    assert rel.median() <= 0.02  # issue 5
+    assert rel.median() <= 0.02  # required: 2 %
     empty = block[~block.in_view]
     assert len(empty) >= 10  # the clip starts and ends without the block
     assert not empty.block_in_view.any()

@@ -9,8 +9,8 @@ from friction_model.constants import ICE
 
 
 def test_thesis_example_value():
-    # Section 4.5.1: dT = 8 K, p = 0.25 MPa, mu_dry = 1.5, v = 1 m/s -> 1.5 mm; the issue
-    # quotes 1.51 mm. Tolerance: half a unit of the quoted last digit (0.005 mm).
+    # Section 4.5.1: dT = 8 K, p = 0.25 MPa, mu_dry = 1.5, v = 1 m/s -> 1.5 mm, i.e.
+    # 1.51 mm. Tolerance: half a unit of the quoted last digit (0.005 mm).
     eps = dry_run_in_length(8.0, 0.25e6, 1.5, 1.0)
     assert abs(eps * 1e3 - 1.51) < 0.005
 

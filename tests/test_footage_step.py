@@ -140,7 +140,7 @@ def test_spec_without_the_new_fields_is_unchanged():
     # the last 30 % of a 4 ms run that ends inside a stick-slip cycle, so it moves with the
     # solver's steps. Tolerance 10 x rtol (1e-3 relative, ~0.01 deg, the accuracy the
     # renderer needs); a 1 % change of the physics fails (at loss factor 0.4, before the one
-    # rubber: 10.1934 deg on scipy 1.17 and 10.1961 deg on the environment against
+    # rubber: 10.1934 deg on scipy 1.17 and 10.1961 deg on another environment's against
     # the converged 10.19216 deg, all within 4e-4). The front edge is a fixed 22 mm of
     # geometry plus the tip deflection, so it carries the tip's absolute error (1e-3 x 1.08 mm).
     # With scipy 1.10 the same integration starts the slip 0.1 ms later and gives 11.03 deg

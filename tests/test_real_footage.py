@@ -104,7 +104,7 @@ def test_static_round_contact_in_a_vignetted_lit_disc(tmp_path):
     res = analyze_video(write_clip(tmp_path / "c1", free, cov), tmp_path / "out", options=FAST)
     truth = cov.sum() * MM_PER_PX ** 2
     assert truth == pytest.approx(np.pi * 2.75 ** 2, rel=2e-3)  # the drawn disc itself
-    # 5 %: the issue's target; JPEG and the soft edge of a 77 px disc cost < 1 %
+    # 5 %: the required accuracy; JPEG and the soft edge of a 77 px disc cost < 1 %
     assert abs(_area_error(res, truth)) <= 0.05
     assert res.frames["n_regions"].iloc[0] == 1  # no speckle
     s = res.summary
@@ -260,7 +260,7 @@ def test_bright_static_contact_across_a_lit_band_from_the_renderer(tmp_path):
     truth = pd.read_csv(clip / "ground_truth.csv")
     true_mm2 = float(truth[truth.element == -1]["contact_area_mm2"].median())
     measured_mm2 = float(res.frames["contact_area_mm2"].median())
-    # 10 %: the issue's 95th-percentile area target. The glow outside the band added about
+    # 10 %: the required 95th-percentile area accuracy. The glow outside the band added about
     # 20 % to this 0.7 mm2 contact; what is left (about 7 %) is the ring of soft-rim pixels
     # that the found and the drawn half-light lines do not share
     assert measured_mm2 == pytest.approx(true_mm2, rel=0.10)
@@ -272,7 +272,7 @@ def test_bright_static_contact_across_a_lit_band_from_the_renderer(tmp_path):
 def test_patchy_block_contact_ratio_from_the_renderer(preset, ratio, tmp_path):
     """Patchy real contact of a passing block, rendered from the friction model's real
     contact fraction: the pipeline's steady contact ratio within 0.05 of the model's (the
-    issue's target), and the model's within 0.05 of Fig. 4.21 (about 0.70 and 0.25).
+    required), and the model's within 0.05 of Fig. 4.21 (about 0.70 and 0.25).
 
     The pipeline's ``contact_ratio`` is over the element faces; the model's and Fig. 4.21's
     over the block's nominal area L w, sipes included: the faces are ``rubber_area_mm2 /

@@ -29,7 +29,7 @@ def test_block_area_median_error_and_empty_frames(clip):
             errors.append(abs(area / true_area - 1))
         else:
             empty.append(area)
-    # Issue 5's target: median relative error of the block contact area <= 2 %. Frames
+    # Required: median relative error of the block contact area <= 2 %. Frames
     # where only a sliver of the block is in view have large relative errors; the median
     # is insensitive to those few.
     assert np.median(errors) <= 0.02

@@ -219,7 +219,7 @@ def _check_case(spec: FootageSpec, elements: pd.DataFrame, blocks: pd.DataFrame)
     measured = both[both["deflection_angle_deg"].notna()]
     err = (measured["deflection_angle_deg"] - measured["deflection_angle_deg_true"]).abs()
     tip_err = (measured["tip_deflection_mm"] - measured["tip_deflection_mm_true"]).abs()
-    # the requirement: median absolute angle error within 0.5 deg
+    # required: median absolute angle error within 0.5 deg
     assert err.median() <= 0.5, err.describe()
     # tip deflection: the visible end is located to a fraction of a pixel and the hidden
     # part below the ice line (<= 0.5 mm) is extrapolated; half a pixel (0.05 mm at

@@ -1,4 +1,4 @@
-"""Stick-slip predicted from the one rubber (issue 12) and its discrepancy case.
+"""Stick-slip predicted from the one rubber and its discrepancy case.
 
 Independent truths: the clamped-free frequency equation (N = 0) and the buckling load (the
 loaded first frequency vanishes there) for the loaded mode; bisection for the strength the

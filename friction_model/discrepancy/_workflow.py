@@ -1,6 +1,6 @@
 """The discrepancy workflow: find the disagreement, name the missing effect, show the gap shrink.
 
-Steps (issue 6): hold out whole groups (conditions or runs); say where model and data
+Steps: hold out whole groups (conditions or runs); say where model and data
 disagree (:mod:`._where`); fit every candidate (multi-start, :mod:`._fit`) and score it on
 held-out data (RSS, AICc, BIC); name a winner only when every criterion holds; add it and
 repeat; report the held-out gap before and after.

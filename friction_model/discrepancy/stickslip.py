@@ -8,7 +8,7 @@ instead of E0 (:func:`friction_model.dynamics.element_step.modulus_scaled_freque
 point ``f = f_c sqrt(E(f) / E0)``: the beam's bending and shear stiffness are both
 proportional to E). :func:`stick_slip_case` scores the two transient candidates on it.
 
-:func:`predicted_stick_slip_problem` states the honest comparison of issue 12: the base model
+:func:`predicted_stick_slip_problem` states the honest comparison, nothing tuned: the base model
 is the one-rubber prediction of :mod:`friction_model.dynamics.stick_slip`, which already has
 the compound's E(f) (strength 1 of the candidate, tan(delta) = 0.2); a candidate strength is
 then an *additional* frequency stiffening, physically plausible only up to
@@ -279,7 +279,7 @@ class PredictedStickSlipProblem(StickSlipProblem):
 
 
 def predicted_stick_slip_problem() -> PredictedStickSlipProblem:
-    """The rig's 1500 Hz against the one-rubber prediction (issue 12), nothing tuned.
+    """The rig's 1500 Hz against the one-rubber prediction, nothing tuned.
 
     Base: :data:`friction_model.dynamics.stick_slip.PREDICTED_STICK_SLIP_HZ` at the central
     k4 = 50 s/m (826 Hz); the candidate on the loaded element
