@@ -228,7 +228,7 @@ def test_bad_input():
         BlockLayout(PX, "left", element_lengths_mm=(1.0, -1.0))
     with pytest.raises(ValueError, match="'sliding_direction'"):
         BlockLayout.from_meta({"mm_per_px": 0.1})
-    with pytest.raises(ValueError, match="no room"):
+    with pytest.raises(ValueError, match=r"meta 'block': the sipes .* leave no rubber"):
         BlockLayout.from_meta({"mm_per_px": 0.1, "sliding_direction": "left",
                                "block": {"length_mm": 2, "n_sipes": 3, "sipe_width_mm": 1}})
     d = np.zeros((4, 5), np.float32)

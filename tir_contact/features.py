@@ -118,6 +118,8 @@ import cv2
 import numpy as np
 import pandas as pd
 
+from friction_model.geometry import BlockGeometry
+from tir_common.validate import check_positive
 from tir_contact.segment import FrameContact
 
 __all__ = [
@@ -179,15 +181,6 @@ _NAN = math.nan
 _EMPTY_FACE_WEIGHT = 0.25
 
 
-def _positive(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}: {value!r}")
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {name}={value!r}")
-    return v
-
-
 @dataclass(frozen=True)
 class BlockLayout:
     """What is known of the block and its motion in the image.
@@ -234,7 +227,7 @@ class BlockLayout:
 
     def __post_init__(self) -> None:
         put = object.__setattr__
-        put(self, "mm_per_px", _positive("mm_per_px", self.mm_per_px))
+        put(self, "mm_per_px", check_positive("mm_per_px", self.mm_per_px))
         if self.sliding_direction not in ("left", "right"):
             raise ValueError(
                 "sliding_direction must be 'left' or 'right', got "
@@ -242,7 +235,7 @@ class BlockLayout:
             )
         if self.element_lengths_mm is not None:
             lengths = tuple(
-                _positive(f"element_lengths_mm[{i}]", v)
+                check_positive(f"element_lengths_mm[{i}]", v)
                 for i, v in enumerate(self.element_lengths_mm)
             )
             if not lengths:
@@ -254,7 +247,7 @@ class BlockLayout:
         put(self, "sipe_width_mm", sw)
         for name in ("width_mm", "height_mm"):
             if getattr(self, name) is not None:
-                put(self, name, _positive(name, getattr(self, name)))
+                put(self, name, check_positive(name, getattr(self, name)))
         if self.velocity_mps is not None:
             v = float(self.velocity_mps)
             if not (math.isfinite(v) and v >= 0):
@@ -286,7 +279,7 @@ class BlockLayout:
         Raises
         ------
         ValueError
-            A missing required key, or a geometry that leaves no room for the elements.
+            A missing required key, or a geometry that leaves no rubber for the elements.
         """
         for key in ("mm_per_px", "sliding_direction"):
             if meta.get(key) is None:
@@ -297,15 +290,14 @@ class BlockLayout:
         lengths: tuple[float, ...] | None = None
         if block.get("element_lengths_mm") is not None:
             lengths = tuple(float(v) for v in block["element_lengths_mm"])
-        elif block.get("length_mm") is not None:
-            n_sipes = int(block.get("n_sipes") or 0)
-            total = float(block["length_mm"]) - n_sipes * sipe
-            if total <= 0:
-                raise ValueError(
-                    f"meta 'block': length_mm={block['length_mm']!r} leaves no room for "
-                    f"{n_sipes + 1} elements between {n_sipes} sipes of {sipe} mm"
-                )
-            lengths = (total / (n_sipes + 1),) * (n_sipes + 1)
+        elif block.get("length_mm") is not None:  # equal elements, as the block model has them
+            try:
+                geometry = BlockGeometry(length_mm=float(block["length_mm"]),
+                                         n_sipes=int(block.get("n_sipes") or 0),
+                                         sipe_width_mm=sipe)
+            except ValueError as exc:
+                raise ValueError(f"meta 'block': {exc}") from None
+            lengths = tuple(geometry.element_lengths.tolist())
         velocity = cond.get("velocity_mps")
         centre = meta.get("center_time_s")
         return cls(
