@@ -146,12 +146,8 @@ def covariance_with_stderr(
 
     Parameters
     ----------
-    J : (N, K) ndarray
-        Jacobian of the weighted residuals with respect to the free parameters at the solution.
-    scale : float
-        Residual variance factor (``chi2 / dof``) or 1 for absolute sigma.
-    names : tuple of str
-        Free parameter names.
+    J, scale, names
+        As for :func:`covariance_from_jacobian`.
     undetermined : str
         The warning (``UserWarning``, attributed to the caller of the calling fit) given
         instead of the generic one when the data do not determine the parameters separately.
