@@ -2,7 +2,8 @@
 
 The array check shared by the friction laws, batched weighted linear least squares (used for the
 exact fit of laws that are linear in their parameters and for grid-based starting values of the
-separable nonlinear laws), the Gauss-Newton covariance of a least-squares estimate and the
+separable nonlinear laws), the Gauss-Newton covariance (and standard errors) of a least-squares
+estimate and the
 nonlinear refinement with :func:`scipy.optimize.least_squares`.
 """
 
@@ -19,6 +20,7 @@ __all__ = [
     "Refined",
     "as_float_array",
     "covariance_from_jacobian",
+    "covariance_with_stderr",
     "grid_local_minima",
     "refine_nonlinear",
     "weighted_lstsq_batched",
@@ -135,6 +137,34 @@ def covariance_from_jacobian(J: np.ndarray, *, scale: float, names: tuple[str, .
         return np.full((k, k), np.inf)
     vs = vt.T / s
     return scale * (vs @ vs.T)
+
+
+def covariance_with_stderr(
+    J: np.ndarray, *, scale: float, names: tuple[str, ...], undetermined: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """Covariance (:func:`covariance_from_jacobian`) and standard errors of an estimate.
+
+    Parameters
+    ----------
+    J, scale, names
+        As for :func:`covariance_from_jacobian`.
+    undetermined : str
+        The warning (``UserWarning``, attributed to the caller of the calling fit) given
+        instead of the generic one when the data do not determine the parameters separately.
+
+    Returns
+    -------
+    cov : (K, K) ndarray
+        The covariance, ``inf`` throughout when undetermined.
+    stderr : (K,) ndarray
+        Square roots of its diagonal (negative round-off clipped to 0).
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cov = covariance_from_jacobian(J, scale=scale, names=names)
+    if not np.all(np.isfinite(cov)):
+        warnings.warn(undetermined, UserWarning, stacklevel=3)
+    return cov, np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
 
 
 class Refined(NamedTuple):

@@ -259,28 +259,23 @@ def polygon_coverage(
 
 
 def render_side_signal(
-    frame: ElementFrame,
+    polygons: tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]],
     *,
-    height_mm: float,
-    block_length_mm: float,
     layout: SideLayout,
-    u_front: float,
     path: PathGeometry,
     base: np.ndarray,
     ice_texture: np.ndarray,
     blur_px: float,
     blur_block: bool,
-) -> tuple[np.ndarray, list[np.ndarray]]:
+) -> np.ndarray:
     """Noise-free side-view signal of one frame, in units of the full well.
 
     Parameters
     ----------
-    frame : ElementFrame
-    height_mm, block_length_mm : float
-        Element height d and block length L, mm.
+    polygons : tuple of three lists of ndarray
+        The outlines of the elements, the base and the carrier at this frame, image mm
+        (:func:`element_polygons`).
     layout : SideLayout
-    u_front : float
-        Image x of the block's leading face (before the camera rotation), mm.
     path : PathGeometry
     base : (H, W) ndarray
         Static full-scale level S (illumination, dust), units of the full well.
@@ -294,20 +289,11 @@ def render_side_signal(
 
     Returns
     -------
-    signal : (H, W) ndarray of float32
-    element_polys : list of ndarray
-        The element outlines drawn (image mm).
+    (H, W) ndarray of float32
     """
     h, w = base.shape
     px = path.mm_per_px
-    elems, base_poly, carrier = element_polygons(
-        frame,
-        height_mm=height_mm,
-        block_length_mm=block_length_mm,
-        layout=layout,
-        u_front=u_front,
-        path=path,
-    )
+    elems, base_poly, carrier = polygons
     rubber = polygon_coverage(elems + base_poly, h, w, px)
     steel = polygon_coverage(carrier, h, w, px)
     # Premultiplied layer of the moving block (carrier and rubber do not overlap).
@@ -322,7 +308,7 @@ def render_side_signal(
             tex = box_blur_x(tex, blur_px)
     img = np.float32(layout.background) * (1.0 - alpha) + colour
     img = img * (1.0 - ice) + ice * np.float32(layout.ice) * tex
-    return (img * base).astype(np.float32), elems
+    return (img * base).astype(np.float32)
 
 
 def _ice_coverage(path: PathGeometry, layout: SideLayout, h: int, w: int) -> np.ndarray:

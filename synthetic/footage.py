@@ -108,6 +108,7 @@ from synthetic._real_contact import (
 from synthetic._render_side import (
     SideLayout,
     deflection_angles,
+    element_polygons,
     ice_texture_frame,
     render_side_signal,
     rotate_scene,
@@ -1516,19 +1517,24 @@ class _Clip:
                 )
             else:
                 tex = self.static_ice
-            sig, polys = render_side_signal(
+            outlines = element_polygons(
                 frame,
                 height_mm=self.geom.height_mm,
                 block_length_mm=self.geom.length_mm,
                 layout=self.layout,
                 u_front=u_front,
                 path=self.path,
+            )
+            sig = render_side_signal(
+                outlines,
+                layout=self.layout,
+                path=self.path,
                 base=self.base,
                 ice_texture=tex,
                 blur_px=self.blur_of(k) / spec.camera.mm_per_px,
                 blur_block=not spec.follow_camera,
             )
-            rows = self._side_rows(frame, contacts, polys, u_front, deflection)
+            rows = self._side_rows(frame, contacts, outlines[0], u_front, deflection)
             if self.extended:
                 self._real_truth(rows, frame, contacts, u_front, None)
         return sig, self._table(k, rows)

@@ -196,6 +196,33 @@ def _regime(run_in_share: np.ndarray, viscous_share: np.ndarray) -> np.ndarray:
     )
 
 
+def _subcooling_K(
+    temperature_C: np.ndarray,
+    melting_point_C: np.ndarray,
+    salinity_pct: np.ndarray,
+    salt_strength: np.ndarray | None = None,
+) -> np.ndarray:
+    """Melting point minus ice temperature, K, per row; the model needs it > 0.
+
+    ``salt_strength`` (per row), when given, is named in the error as the
+    ``salinity_melting_point`` strength that lowered the melting point.
+    """
+    dT = melting_point_C - temperature_C
+    if np.any(dT <= 0):
+        bad = int(np.flatnonzero(dT <= 0)[0])
+        cause = (
+            ""
+            if salt_strength is None
+            else f", salinity_melting_point strength {salt_strength[bad]:g}"
+        )
+        raise ValueError(
+            f"temperature_C={temperature_C[bad]} is not below the melting point of the ice "
+            f"({melting_point_C[bad]:.3f} degC at salinity_pct={salinity_pct[bad]}{cause}); "
+            "the model needs ice below its melting point"
+        )
+    return dT
+
+
 @dataclass(frozen=True)
 class _Prepared:
     grid: Grid
@@ -227,14 +254,7 @@ def _prepare(geometry: BlockGeometry, table: pd.DataFrame, params: DryWetParamet
     t_melt = params.ice.melting_point_C - freezing_point_depression_K(
         sal, enrichment=params.salt_enrichment * eff.salinity_melting_point
     )
-    dT = t_melt - T
-    if np.any(dT <= 0):
-        bad = int(np.flatnonzero(dT <= 0)[0])
-        raise ValueError(
-            f"temperature_C={T[bad]} is not below the melting point of the ice "
-            f"({t_melt[bad]:.3f} degC at salinity_pct={sal[bad]}); the model needs ice below "
-            "its melting point"
-        )
+    dT = _subcooling_K(T, t_melt, sal)
     h0 = initial_water_layer_m(
         dT,
         rh,

@@ -22,7 +22,13 @@ import numpy as np
 import pandas as pd
 
 from friction_model.contact._march import march
-from friction_model.contact.drywet import DryWetParameters, _as_table, _element_tables, _prepare
+from friction_model.contact.drywet import (
+    DryWetParameters,
+    _as_table,
+    _element_tables,
+    _prepare,
+    _subcooling_K,
+)
 from friction_model.contact.effects import DRY_WET_EFFECTS
 from friction_model.contact.water_layer import freezing_point_depression_K, initial_water_layer_m
 from friction_model.geometry import BlockGeometry
@@ -88,14 +94,7 @@ def _mu_one_geometry(
                     for k, s in enumerate(strengths)
                 ]
             )
-            d_t = t_melt - temp
-            if np.any(d_t <= 0):
-                bad = int(np.flatnonzero(d_t <= 0)[0])
-                raise ValueError(
-                    f"salinity_melting_point strength {s_rows[bad]:g} puts the melting point "
-                    f"({t_melt[bad]:.3f} degC) at or below temperature_C={temp[bad]} "
-                    f"(salinity_pct={sal[bad]})"
-                )
+            d_t = _subcooling_K(temp, t_melt, sal, s_rows)
             inp.delta_T = d_t
             inp.h0 = initial_water_layer_m(
                 d_t,

@@ -39,7 +39,7 @@ from scipy.interpolate import PchipInterpolator
 
 from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.discrepancy._problem import get_candidate
-from friction_model.discrepancy.transient import MODULUS, RELAXATION
+from friction_model.discrepancy.transient import MODULUS, RELAXATION, relaxation_and_modulus
 from friction_model.dynamics.element_step import (
     MODULUS_ALPHA,
     MODULUS_F0_HZ,
@@ -181,19 +181,7 @@ class StickSlipProblem:
         self.covariates = pd.DataFrame({"frequency_Hz": f_c, "measurement": self.groups})
 
     def _parameters(self, effects: Mapping[str, Sequence[float]]) -> tuple[float, float]:
-        unknown = sorted(set(effects) - set(self.effect_names))
-        if unknown:
-            raise ValueError(
-                f"effects {', '.join(unknown)} do not apply to a stick-slip frequency; "
-                f"valid: {', '.join(self.effect_names)}"
-            )
-        out = []
-        for name in (RELAXATION, MODULUS):
-            params = tuple(effects.get(name, (0.0,)))
-            if len(params) != 1 or not float(params[0]) >= 0:
-                raise ValueError(f"effect {name} takes one parameter >= 0, got {params!r}")
-            out.append(float(params[0]))
-        return out[0], out[1]
+        return relaxation_and_modulus(effects, data="a stick-slip frequency")
 
     def fit_base(self, train: np.ndarray, effects: Mapping[str, Sequence[float]]) -> np.ndarray:
         """No base parameters (the simulated frequency is fixed): an empty array."""

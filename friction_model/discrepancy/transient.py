@@ -58,6 +58,7 @@ __all__ = [
     "candidate_specs",
     "read_elements_table",
     "read_transient_table",
+    "relaxation_and_modulus",
     "run_from_table",
     "runs_from_elements",
 ]
@@ -103,6 +104,53 @@ def _finite_float(name: str, value: Any) -> float:
     if not math.isfinite(out):
         raise ValueError(f"{name} must be finite, got {name}={value!r}")
     return out
+
+
+def relaxation_and_modulus(
+    effects: Mapping[str, Sequence[float]], *, data: str
+) -> tuple[float, float]:
+    """(tau_s, modulus strength) from an effects mapping of the two dynamic effects.
+
+    An absent effect is 0. Each present one takes one finite parameter >= 0.
+
+    Parameters
+    ----------
+    effects : mapping of str to sequence of float
+        Parameters by effect name; only ``RELAXATION`` and ``MODULUS`` may appear.
+    data : str
+        What the effects are applied to, for the message of an effect that does not apply
+        (e.g. ``"transient data"``).
+
+    Returns
+    -------
+    tuple of float
+        The relaxation time tau_s (s) and the modulus strength.
+
+    Raises
+    ------
+    TypeError
+        ``effects`` is not a mapping, or a parameter is not a number.
+    ValueError
+        An effect other than the two, not one parameter, or one that is not finite or < 0.
+    """
+    if not isinstance(effects, Mapping):
+        raise TypeError(f"effects must be a mapping, got {type(effects).__name__}")
+    valid = (RELAXATION, MODULUS)
+    unknown = sorted(set(effects) - set(valid))
+    if unknown:
+        raise ValueError(
+            f"effects {', '.join(unknown)} do not apply to {data}; valid: {', '.join(valid)}"
+        )
+    values = []
+    for name in valid:
+        params = tuple(effects.get(name, (0.0,)))
+        if len(params) != 1:
+            raise ValueError(f"effect {name} takes one parameter, got {params!r}")
+        value = _finite_float(name, params[0])
+        if value < 0:
+            raise ValueError(f"effect {name} parameter must be >= 0, got {value!r}")
+        values.append(value)
+    return values[0], values[1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -644,24 +692,7 @@ class TransientProblem:
         The candidates' bounds are those of the registry (:func:`candidate_specs`); here
         only the physics is checked: tau_s >= 0 and strength >= 0.
         """
-        if not isinstance(effects, Mapping):
-            raise TypeError(f"effects must be a mapping, got {type(effects).__name__}")
-        unknown = sorted(set(effects) - set(self.effect_names))
-        if unknown:
-            raise ValueError(
-                f"effects {', '.join(unknown)} do not apply to transient data; valid: "
-                f"{', '.join(self.effect_names)}"
-            )
-        values = []
-        for name in (RELAXATION, MODULUS):
-            params = tuple(effects.get(name, (0.0,)))
-            if len(params) != 1:
-                raise ValueError(f"effect {name} takes one parameter, got {params!r}")
-            value = _finite_float(name, params[0])
-            if value < 0:
-                raise ValueError(f"effect {name} parameter must be >= 0, got {value!r}")
-            values.append(value)
-        return values[0], values[1]
+        return relaxation_and_modulus(effects, data="transient data")
 
     def parameter_bounds(self, name: str) -> list[tuple[float, float]] | None:
         """Narrower bounds for a candidate on this data: tau_s in [0, ``TAU_MAX_S``].

@@ -28,7 +28,6 @@ from __future__ import annotations
 import logging
 import math
 import os
-import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -37,7 +36,7 @@ import pandas as pd
 from scipy import stats
 from scipy.optimize import least_squares
 
-from friction_model._fitting import covariance_from_jacobian
+from friction_model._fitting import covariance_with_stderr
 from friction_model._table_io import read_table
 from friction_model.geometry import BlockGeometry
 
@@ -730,17 +729,13 @@ def fit_lever_arm(
     dof = n - 4
     chi2 = float(np.sum(r**2))
     scale_cov = 1.0 if absolute else chi2 / max(dof, 1)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        cov = covariance_from_jacobian(res.jac, scale=scale_cov, names=LEVER_ARM_PARAMS)
-    if not np.all(np.isfinite(cov)):
-        warnings.warn(
-            "fit_lever_arm: the data do not determine e1..e4 separately (angles should span "
-            "the rise of the lever arm); standard errors set to inf",
-            UserWarning,
-            stacklevel=2,
-        )
-    se = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
+    cov, se = covariance_with_stderr(
+        res.jac,
+        scale=scale_cov,
+        names=LEVER_ARM_PARAMS,
+        undetermined="fit_lever_arm: the data do not determine e1..e4 separately (angles should "
+        "span the rise of the lever arm); standard errors set to inf",
+    )
     q = float(stats.t.ppf(0.5 + 0.5 * level, max(dof, 1)))
     names = LEVER_ARM_PARAMS
     raw_e = r / w

@@ -46,7 +46,7 @@ from scipy import stats
 from scipy.linalg import expm
 from scipy.optimize import brentq, least_squares
 
-from friction_model._fitting import covariance_from_jacobian
+from friction_model._fitting import covariance_with_stderr
 from friction_model._table_io import TableSource, read_table
 from friction_model.contact.laws import FrictionLaw, fit_law
 from friction_model.dynamics.rigid import SdofParams
@@ -864,17 +864,13 @@ def identify_parameters(
     cost_min = float(np.sum(res.fun**2))
     n_obs = prob.n_obs
     dof = max(n_obs - len(all_free), 1)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        cov = covariance_from_jacobian(res.jac / 1.0, scale=1.0, names=all_free)
-    if not np.all(np.isfinite(cov)):
-        warnings.warn(
-            f"identify_parameters: the data do not determine {all_free} separately; "
-            "standard errors set to inf",
-            UserWarning,
-            stacklevel=2,
-        )
-    se = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
+    cov, se = covariance_with_stderr(
+        res.jac / 1.0,
+        scale=1.0,
+        names=all_free,
+        undetermined=f"identify_parameters: the data do not determine {all_free} separately; "
+        "standard errors set to inf",
+    )
     q = float(stats.t.ppf(0.5 + 0.5 * level, dof))
     lows, highs, methods = x_hat - q * se, x_hat + q * se, ["jacobian"] * len(all_free)
     if ci == "profile":
