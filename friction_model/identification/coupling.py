@@ -43,8 +43,8 @@ from friction_model.geometry import BlockGeometry
 logger = logging.getLogger(__name__)
 
 __all__ = [
-    "ELEMENT_COLUMNS",
-    "FRAME_COLUMNS",
+    "REQUIRED_ELEMENT_COLUMNS",
+    "REQUIRED_FRAME_COLUMNS",
     "LeverArmFit",
     "MeasuredContact",
     "contact_from_pipeline",
@@ -55,10 +55,12 @@ __all__ = [
     "read_pipeline_tables",
 ]
 
-#: Columns of the pipeline's ``frames.csv`` used here.
-FRAME_COLUMNS = ("frame", "time_s", "block_in_view", "contact_area_mm2", "n_elements_in_contact")
-#: Columns of the pipeline's ``elements.csv`` used here.
-ELEMENT_COLUMNS = ("frame", "time_s", "element", "contact_area_mm2", "contact_length_mm")
+#: The columns of the pipeline's ``frames.csv`` read here (the file has more).
+REQUIRED_FRAME_COLUMNS = (
+    "frame", "time_s", "block_in_view", "contact_area_mm2", "n_elements_in_contact",
+)
+#: The columns of the pipeline's ``elements.csv`` read here (the file has more).
+REQUIRED_ELEMENT_COLUMNS = ("frame", "time_s", "element", "contact_area_mm2", "contact_length_mm")
 #: Lever-arm parameter names of Eq. 5.21/5.22 in :class:`TimoshenkoParams` spelling.
 LEVER_ARM_PARAMS = ("e1", "e2_per_rad", "e3_m", "e4_m")
 
@@ -233,8 +235,8 @@ def contact_from_pipeline(
     """
     ftab, fsrc = _as_table("frames", frames)
     etab, esrc = _as_table("elements", elements)
-    _require(ftab, FRAME_COLUMNS, fsrc)
-    _require(etab, ELEMENT_COLUMNS, esrc)
+    _require(ftab, REQUIRED_FRAME_COLUMNS, fsrc)
+    _require(etab, REQUIRED_ELEMENT_COLUMNS, esrc)
     if not 0.0 <= area_tolerance < 1.0:
         raise ValueError(f"area_tolerance must lie in [0, 1), got {area_tolerance=}")
     if normal_force_N is not None and not (math.isfinite(normal_force_N) and normal_force_N > 0):
