@@ -255,3 +255,16 @@ def test_eq_5_21_fitted_to_rendered_lever_arms_predicts_a_held_out_load(clip_tru
     # allowed, an eighth of the eccentricity's range over the fit
     assert_allclose(pred, held["lever_arm_mm"].to_numpy(), atol=0.05)
     assert math.isfinite(fit.rmse_m) and fit.rmse_m < 2e-5
+
+
+def test_the_pipeline_writes_every_column_the_coupling_reads():
+    # the contract between the two packages: friction_model reads the CSV files that
+    # tir_contact writes, and neither imports the other's column lists at run time
+    from friction_model.identification.coupling import (
+        REQUIRED_ELEMENT_COLUMNS,
+        REQUIRED_FRAME_COLUMNS,
+    )
+    from tir_contact.outputs import ELEMENT_COLUMNS, FRAME_COLUMNS
+
+    assert set(REQUIRED_FRAME_COLUMNS) <= set(FRAME_COLUMNS)
+    assert set(REQUIRED_ELEMENT_COLUMNS) <= set(ELEMENT_COLUMNS)
