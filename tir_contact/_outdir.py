@@ -9,18 +9,15 @@ import shutil
 import uuid
 from pathlib import Path
 
-from tir_common.atomic import atomic_write, write_json
 from tir_contact._workers import parent_alive
 
 logger = logging.getLogger(__name__)
 
 __all__ = [
-    "atomic_write",
     "remove_stale_temporaries",
     "replace_folder",
     "staging_folder",
     "temporary_name",
-    "write_json",
 ]
 
 #: Hidden temporaries this module names: ``.<name>.<pid>-<hex>.partial`` (a result being

@@ -26,9 +26,10 @@ from typing import Any
 
 import pandas as pd
 
+from tir_common.atomic import atomic_write, write_json
 from tir_common.progress import progress_bar, show_progress
 from tir_contact import _workers
-from tir_contact._outdir import atomic_write, remove_stale_temporaries, write_json
+from tir_contact._outdir import remove_stale_temporaries
 from tir_contact._readers import FootageError, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage

@@ -18,10 +18,13 @@ import cv2
 import numpy as np
 import pandas as pd
 
-from tir_contact._outdir import replace_folder, staging_folder, temporary_name, write_json
+from tir_common.atomic import write_json
+from tir_contact import __version__
+from tir_contact._outdir import replace_folder, staging_folder, temporary_name
 from tir_contact._readers import FootageError
 from tir_contact.features import ELEMENT_FIELDS, FRAME_KEYS, element_records
 from tir_contact.options import AnalysisOptions
+from tir_contact.overlay import draw_side_overlay, draw_tir_overlay
 from tir_contact.prepare import VideoSetup, footage_fingerprint
 
 __all__ = [
@@ -302,8 +305,6 @@ def _gaps(numbers: np.ndarray) -> list[dict[str, int]]:
 def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
              frames: pd.DataFrame, elements: pd.DataFrame, skipped: list[dict[str, Any]],
              elapsed: float, lost: list[int]) -> dict[str, Any]:
-    from tir_contact import __version__
-
     ref = setup.reference
     in_view = frames["block_in_view"].astype(bool)
     return {
@@ -400,8 +401,6 @@ class _OverlayVideo:
 
 def _draw(setup: VideoSetup, frame: np.ndarray, result: Any) -> np.ndarray:
     """The overlay image of a frame and its :class:`~tir_contact.frame.FrameResult`."""
-    from tir_contact.overlay import draw_side_overlay, draw_tir_overlay
-
     k = result.row["frame"]
     label = f"frame {k}  t = {k / setup.fps * 1e3:.2f} ms"
     el = result.element_table()

@@ -8,6 +8,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from tir_common.atomic import atomic_write
+
 __all__ = ["plot_video_results"]
 
 
@@ -23,8 +25,6 @@ def _figure(width_in: float, height_in: float) -> Any:
 
 
 def _save(fig: Any, path: Path) -> Path:
-    from tir_contact._outdir import atomic_write
-
     atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=DPI))
     return path
 
