@@ -1,8 +1,7 @@
-"""Tests of the ``tir-contact evaluate`` sub-command (parser built here with add_parser)."""
+"""Tests of the ``tir-contact evaluate`` sub-command (through the console entry point)."""
 
 from __future__ import annotations
 
-import argparse
 import math
 from pathlib import Path
 
@@ -12,7 +11,6 @@ import pytest
 from numpy.testing import assert_allclose
 
 from synthetic.rig import make_raw_run, write_run_csv
-from tir_contact import cli
 
 F_N = 300.0  # N, spring preload of the synthetic runs
 MASS = 12.5  # kg, inertial mass written to the metadata
@@ -20,14 +18,6 @@ MASS = 12.5  # kg, inertial mass written to the metadata
 
 def law(v):
     return 0.12 + 0.25 * np.exp(-np.asarray(v) / 1.5)
-
-
-def parser() -> argparse.ArgumentParser:
-    return cli.build_parser("evaluate")
-
-
-def main(argv: list[str]) -> int:
-    return cli.main(argv)
 
 
 def make_folder(folder: Path, *, broken: bool = False, instationary: bool = False) -> Path:
@@ -66,10 +56,10 @@ def make_folder(folder: Path, *, broken: bool = False, instationary: bool = Fals
     return folder
 
 
-def test_evaluate_folder_success(tmp_path, capsys):
+def test_evaluate_folder_success(run_cli, tmp_path, capsys):
     runs = make_folder(tmp_path / "runs")
     out = tmp_path / "out"
-    assert main(["evaluate", str(runs), "--out", str(out), "--no-progress"]) == 0
+    assert run_cli(["evaluate", runs, "--out", out, "--no-progress"]) == 0
     captured = capsys.readouterr()
     assert captured.err == ""
     assert "evaluated 6 steady and 0 instationary runs, 0 failed" in captured.out
@@ -85,10 +75,10 @@ def test_evaluate_folder_success(tmp_path, capsys):
     assert len(list((out / "mu_t").glob("*.png"))) == 6
 
 
-def test_broken_file_exit_code_and_stderr(tmp_path, capsys):
+def test_broken_file_exit_code_and_stderr(run_cli, tmp_path, capsys):
     runs = make_folder(tmp_path / "runs", broken=True)
     out = tmp_path / "out"
-    assert main(["evaluate", str(runs), "--out", str(out), "--no-plots", "--no-progress"]) == 1
+    assert run_cli(["evaluate", runs, "--out", out, "--no-plots", "--no-progress"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     broken = runs / "G5_run1.csv"
     assert len(err) == 1
@@ -100,11 +90,11 @@ def test_broken_file_exit_code_and_stderr(tmp_path, capsys):
     assert not (out / "mu_v.png").exists()
 
 
-def test_instationary_run_in_folder_and_mass_override(tmp_path, capsys):
+def test_instationary_run_in_folder_and_mass_override(run_cli, tmp_path, capsys):
     runs = make_folder(tmp_path / "runs", instationary=True)
     out = tmp_path / "out"
     argv = ["evaluate", str(runs / "G0_ramp.csv"), "--out", str(out), "--no-plots"]
-    assert main([*argv, "--bin-width", "0.5"]) == 0
+    assert run_cli([*argv, "--bin-width", "0.5"]) == 0
     assert "G0_ramp.csv: m = 12.5 kg, 6 accelerating and 6 decelerating bins" in (
         capsys.readouterr().out
     )
@@ -115,7 +105,7 @@ def test_instationary_run_in_folder_and_mass_override(tmp_path, capsys):
     assert_allclose(inst["mu"], law(inst["velocity_mps"]), atol=2e-3)
     # --mass-kg 0 keeps the inertial force: mu + m a / F_N while accelerating
     out0 = tmp_path / "out0"
-    assert main([*argv[:3], str(out0), "--no-plots", "--bin-width", "0.5", "--mass-kg", "0"]) == 0
+    assert run_cli([*argv[:3], out0, "--no-plots", "--bin-width", "0.5", "--mass-kg", "0"]) == 0
     biased = pd.read_csv(out0 / "instationary_characteristic.csv")
     acc = (biased["branch"] == "accelerating") & (biased["velocity_mps"] < 2.5)
     assert_allclose(
@@ -123,12 +113,12 @@ def test_instationary_run_in_folder_and_mass_override(tmp_path, capsys):
     )
 
 
-def test_forced_instationary_flag(tmp_path):
+def test_forced_instationary_flag(run_cli, tmp_path):
     runs = make_folder(tmp_path / "runs", instationary=True)
     out = tmp_path / "out"
     # a steady run read as instationary: its ramps give both branches, the plateau none
     argv = ["evaluate", str(runs / "G0_run1.csv"), "--out", str(out), "--no-plots"]
-    assert main([*argv, "--instationary", "--bin-width", "0.25"]) == 0
+    assert run_cli([*argv, "--instationary", "--bin-width", "0.25"]) == 0
     inst = pd.read_csv(out / "instationary_characteristic.csv")
     assert set(inst["branch"]) == {"accelerating", "decelerating"}
     # ramp at 5 m/s^2 to 1 m/s, bins below 1 m/s: mu = 0.22 after removing m a
@@ -137,11 +127,11 @@ def test_forced_instationary_flag(tmp_path):
 
 
 @pytest.mark.parametrize("bad", [["--bin-width", "0"], ["--bin-width", "x"], ["--mass-kg", "-1"]])
-def test_bad_option_values(tmp_path, bad):
-    assert main(["evaluate", str(tmp_path), "--out", str(tmp_path / "o"), *bad]) == 2
+def test_bad_option_values(run_cli, tmp_path, bad):
+    assert run_cli(["evaluate", tmp_path, "--out", tmp_path / "o", *bad]) == 2
 
 
-def test_empty_folder_fails(tmp_path, capsys):
+def test_empty_folder_fails(run_cli, tmp_path, capsys):
     (tmp_path / "empty").mkdir()
-    assert main(["evaluate", str(tmp_path / "empty"), "--out", str(tmp_path / "o")]) == 1
+    assert run_cli(["evaluate", tmp_path / "empty", "--out", tmp_path / "o"]) == 1
     assert "folder contains no *.csv files" in capsys.readouterr().err

@@ -26,7 +26,6 @@ import tifffile
 from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from tir_contact._outdir import remove_stale_temporaries, temporary_name
 from tir_contact.analyze import AnalysisOptions, analyze_video
-from tir_contact.cli import main
 from tir_contact.io import open_footage
 
 SMALL = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128)
@@ -56,7 +55,7 @@ def _stack(clip: Path, folder: Path) -> tuple[Path, np.ndarray]:
 
 
 @pytest.mark.parametrize("keep", [0.99, 0.6])
-def test_tiff_cut_short_reads_every_intact_frame_and_names_the_lost(clip, tmp_path, keep):
+def test_tiff_cut_short_reads_every_intact_frame_and_names_the_lost(run_cli, clip, tmp_path, keep):
     path, frames = _stack(clip, tmp_path / "stack")
     size = path.stat().st_size
     with open(path, "r+b") as f:
@@ -72,7 +71,7 @@ def test_tiff_cut_short_reads_every_intact_frame_and_names_the_lost(clip, tmp_pa
         for i in (0, intact - 1):
             np.testing.assert_array_equal(reader.get_frame(i), frames[i])  # exact pixels
     out = tmp_path / "out"
-    code = main(["analyze", str(path), "--out", str(out), *QUIET])
+    code = run_cli(["analyze", path, "--out", out, *QUIET])
     assert code == 1  # partial: a batch with lost frames is not ok
     report = pd.read_csv(out / "batch_report.csv")
     assert report.loc[0, "status"] == "partial"
@@ -178,12 +177,12 @@ def test_stale_temporaries_go_and_live_ones_stay(tmp_path):
     assert live.exists() and all(p.exists() for p in keep)
 
 
-def test_the_next_run_removes_what_a_killed_run_left(clip, tmp_path):
+def test_the_next_run_removes_what_a_killed_run_left(run_cli, clip, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     leftover = out / ".overlay-abcd1234.avi"  # the name an older version gave it
     leftover.write_bytes(b"\0" * 1000)
-    assert main(["analyze", str(clip), "--out", str(out), *QUIET]) == 0
+    assert run_cli(["analyze", clip, "--out", out, *QUIET]) == 0
     assert not leftover.exists()
     assert sorted(p.name for p in out.iterdir()) == ["G3", "batch_report.csv",
                                                       "batch_report.json"]
@@ -260,12 +259,12 @@ def test_workers_die_with_the_batch(tmp_path, method):
     assert not left
 
 
-def test_clip_folder_with_a_broken_meta_json_names_the_json_error(clip, tmp_path):
+def test_clip_folder_with_a_broken_meta_json_names_the_json_error(run_cli, clip, tmp_path):
     broken = tmp_path / "broken"
     shutil.copytree(clip, broken)
     text = (broken / "meta.json").read_text()
     (broken / "meta.json").write_text(text.replace('"fps":', '"fps"', 1))  # a colon lost
     out = tmp_path / "out"
-    assert main(["analyze", str(broken), "--out", str(out), *QUIET]) == 1
+    assert run_cli(["analyze", broken, "--out", out, *QUIET]) == 1
     message = pd.read_csv(out / "batch_report.csv").loc[0, "message"]
     assert message.startswith("meta.json: not valid JSON (Expecting ':' delimiter at line")

@@ -27,7 +27,6 @@ from friction_model.rig import (
     read_run,
 )
 from synthetic.rig import make_raw_run, write_run_csv
-from tir_contact.cli import main
 
 ARRAYS = ("time_s", "velocity_mps", "normal_force_N", "friction_force_N", "temperature_C",
           "humidity_pct")
@@ -150,7 +149,7 @@ posix_only = pytest.mark.skipif(sys.platform == "win32", reason="POSIX permissio
 
 
 @posix_only
-def test_cli_evaluate_reads_a_semicolon_folder_like_the_comma_folder(tmp_path, capsys):
+def test_cli_evaluate_reads_a_semicolon_folder_like_the_comma_folder(run_cli, tmp_path, capsys):
     dots, semis = tmp_path / "dots", tmp_path / "semis"
     dots.mkdir()
     semis.mkdir()
@@ -160,7 +159,7 @@ def test_cli_evaluate_reads_a_semicolon_folder_like_the_comma_folder(tmp_path, c
     saved = os.umask(0o022)
     try:
         for folder in (dots, semis):
-            code = main(["evaluate", str(folder), "--out", str(tmp_path / f"out_{folder.name}"),
+            code = run_cli(["evaluate", folder, "--out", tmp_path / f"out_{folder.name}",
                          "--no-plots", "--no-progress"])
             assert code == 0
     finally:

@@ -1,0 +1,64 @@
+"""Fixtures shared by the test files: the console command, small rendered clips, file bytes."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from os import PathLike
+from pathlib import Path
+
+import pytest
+
+from synthetic.footage import CameraSettings, FootageSpec, render_footage
+from tir_contact import cli
+
+#: A small, fast camera (320 x 128 px at 0.2 mm/px) for clips that are analysed end to end.
+SMALL_CAMERA = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128)
+
+
+@pytest.fixture(scope="session")
+def run_cli() -> Callable[[Sequence[str | PathLike]], int]:
+    """Run ``tir-contact ARGV`` through the real entry point :func:`tir_contact.cli.main`.
+
+    The returned function takes the words of the command line (paths may be given as
+    :class:`~pathlib.Path`) and returns the exit code; output goes to stdout/stderr as
+    for a user (read it with ``capsys``).
+    """
+
+    def run(argv: Sequence[str | PathLike]) -> int:
+        return cli.main([str(word) for word in argv])
+
+    return run
+
+
+@pytest.fixture(scope="session")
+def render_clip() -> Callable[..., Path]:
+    """Render a small synthetic clip with :func:`synthetic.footage.render_footage`.
+
+    ``render_clip(folder, fmt="png", **spec_fields)`` writes the footage of a G3 block
+    sliding steadily at 3 m/s, 160 frames, seen by :data:`SMALL_CAMERA`, into `folder`
+    (any :class:`~synthetic.footage.FootageSpec` field given overrides these) and returns
+    `folder`.
+    """
+
+    def render(folder: Path, fmt: str = "png", **spec_fields) -> Path:
+        spec = FootageSpec(**{"preset": "G3", "velocity_mps": 3.0, "n_frames": 160,
+                              "dynamics": "steady", "camera": SMALL_CAMERA, **spec_fields})
+        render_footage(spec, folder, fmt=fmt, progress=False)
+        return folder
+
+    return render
+
+
+@pytest.fixture(scope="session")
+def tree_bytes() -> Callable[[Path], dict[str, bytes]]:
+    """The bytes of every file under a folder (keyed by relative POSIX path), or of one file
+    (keyed by its name): ``tree_bytes(a) == tree_bytes(b)`` says two outputs are identical."""
+
+    def read(path: Path) -> dict[str, bytes]:
+        path = Path(path)
+        if not path.is_dir():
+            return {path.name: path.read_bytes()}
+        return {p.relative_to(path).as_posix(): p.read_bytes()
+                for p in sorted(path.rglob("*")) if p.is_file()}
+
+    return read
