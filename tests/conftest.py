@@ -1,4 +1,5 @@
-"""Fixtures shared by the test files: the console command, small rendered clips, file bytes."""
+"""Fixtures shared by the test files: the console command, small rendered clips, a test-rig
+ramp run, file bytes."""
 
 from __future__ import annotations
 
@@ -6,9 +7,11 @@ from collections.abc import Callable, Sequence
 from os import PathLike
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from synthetic.footage import CameraSettings, FootageSpec, render_footage
+from synthetic.rig import make_raw_run, write_run_csv
 from tir_contact import cli
 
 #: A small, fast camera (320 x 128 px at 0.2 mm/px) for clips that are analysed end to end.
@@ -62,3 +65,35 @@ def tree_bytes() -> Callable[[Path], dict[str, bytes]]:
                 for p in sorted(path.rglob("*")) if p.is_file()}
 
     return read
+
+
+@pytest.fixture(scope="session")
+def ramp_law() -> Callable[[np.ndarray], np.ndarray]:
+    """The friction law of :func:`write_ramp_run`: mu(v) = 0.12 + 0.25 exp(-v / 1.5 m/s)."""
+
+    def law(v_mps):
+        return 0.12 + 0.25 * np.exp(-np.asarray(v_mps) / 1.5)
+
+    return law
+
+
+@pytest.fixture(scope="session")
+def write_ramp_run(ramp_law) -> Callable[..., Path]:
+    """Write an instationary test-rig run (:func:`synthetic.rig.make_raw_run`) to a CSV file.
+
+    ``write_ramp_run(path, **options)``: specimen G0 ramped up to 3 m/s and down at 4 m/s^2,
+    4 kHz, F_N = 300 N (1 N force noise), inertial mass 12.5 kg, friction :func:`ramp_law`,
+    seed 5; `options` override the arguments of ``make_raw_run``. Returns `path`.
+    """
+
+    def write(path: Path, **options) -> Path:
+        df = make_raw_run(
+            ramp_law,
+            **{"kind": "instationary", "velocity_mps": 3.0, "accel_mps2": 4.0,
+               "decel_mps2": 4.0, "sample_rate_Hz": 4000, "normal_force_N": 300.0,
+               "force_noise_N": 1.0, "inertial_mass_kg": 12.5, "rng": 5,
+               "metadata": {"specimen": "G0"}, **options},
+        )
+        return write_run_csv(df, path)
+
+    return write

@@ -16,11 +16,9 @@ F_N = 300.0  # N, spring preload of the synthetic runs
 MASS = 12.5  # kg, inertial mass written to the metadata
 
 
-def law(v):
-    return 0.12 + 0.25 * np.exp(-np.asarray(v) / 1.5)
-
-
-def make_folder(folder: Path, *, broken: bool = False, instationary: bool = False) -> Path:
+def make_folder(folder: Path, *, broken: bool = False, ramp=None) -> Path:
+    """Six steady runs (G0, G3) in `folder`; with `broken` an unreadable G5 run, with `ramp`
+    (the fixture ``write_ramp_run``) the instationary ramp run G0_ramp.csv."""
     folder.mkdir()
     for spec, mu in (("G0", 0.22), ("G3", 0.26)):
         for run in (1, 2, 3):
@@ -37,22 +35,8 @@ def make_folder(folder: Path, *, broken: bool = False, instationary: bool = Fals
         (folder / "G5_run1.csv").write_text(
             "# specimen: G5\ntime_s,velocity_mps,normal_force_N\n0,0,300\n0.001,0,300\n"
         )
-    if instationary:
-        df = make_raw_run(
-            law,
-            kind="instationary",
-            velocity_mps=3.0,
-            accel_mps2=4.0,
-            decel_mps2=4.0,
-            sample_rate_Hz=4000,
-            normal_force_N=F_N,
-            normal_force_ripple=0.0,
-            force_noise_N=1.0,
-            inertial_mass_kg=MASS,
-            rng=5,
-            metadata={"specimen": "G0"},
-        )
-        write_run_csv(df, folder / "G0_ramp.csv")
+    if ramp is not None:
+        ramp(folder / "G0_ramp.csv", normal_force_ripple=0.0)
     return folder
 
 
@@ -90,8 +74,10 @@ def test_broken_file_exit_code_and_stderr(run_cli, tmp_path, capsys):
     assert not (out / "mu_v.png").exists()
 
 
-def test_instationary_run_in_folder_and_mass_override(run_cli, tmp_path, capsys):
-    runs = make_folder(tmp_path / "runs", instationary=True)
+def test_instationary_run_in_folder_and_mass_override(
+    run_cli, write_ramp_run, ramp_law, tmp_path, capsys
+):
+    runs = make_folder(tmp_path / "runs", ramp=write_ramp_run)
     out = tmp_path / "out"
     argv = ["evaluate", str(runs / "G0_ramp.csv"), "--out", str(out), "--no-plots"]
     assert run_cli([*argv, "--bin-width", "0.5"]) == 0
@@ -102,7 +88,7 @@ def test_instationary_run_in_folder_and_mass_override(run_cli, tmp_path, capsys)
     assert_allclose(inst["inertial_mass_kg"], MASS, rtol=0)
     # bins of 0.5 m/s up to 3 m/s; law recovered after inertia removal (bin se ~1e-4, law
     # curvature over 0.5 m/s < 1e-3)
-    assert_allclose(inst["mu"], law(inst["velocity_mps"]), atol=2e-3)
+    assert_allclose(inst["mu"], ramp_law(inst["velocity_mps"]), atol=2e-3)
     # --mass-kg 0 keeps the inertial force: mu + m a / F_N while accelerating
     out0 = tmp_path / "out0"
     assert run_cli([*argv[:3], out0, "--no-plots", "--bin-width", "0.5", "--mass-kg", "0"]) == 0
@@ -113,8 +99,8 @@ def test_instationary_run_in_folder_and_mass_override(run_cli, tmp_path, capsys)
     )
 
 
-def test_forced_instationary_flag(run_cli, tmp_path):
-    runs = make_folder(tmp_path / "runs", instationary=True)
+def test_forced_instationary_flag(run_cli, write_ramp_run, tmp_path):
+    runs = make_folder(tmp_path / "runs", ramp=write_ramp_run)
     out = tmp_path / "out"
     # a steady run read as instationary: its ramps give both branches, the plateau none
     argv = ["evaluate", str(runs / "G0_run1.csv"), "--out", str(out), "--no-plots"]

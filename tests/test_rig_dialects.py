@@ -60,23 +60,6 @@ def steady_run(path: Path, *, rng: int = 3, mass: float = 12.5) -> Path:
     return write_run_csv(df, path)
 
 
-def instationary_run(path: Path) -> Path:
-    df = make_raw_run(
-        lambda v: 0.12 + 0.25 * np.exp(-np.asarray(v) / 1.5),
-        kind="instationary",
-        velocity_mps=3.0,
-        accel_mps2=4.0,
-        decel_mps2=4.0,
-        sample_rate_Hz=4000,
-        normal_force_N=300.0,
-        force_noise_N=1.0,
-        inertial_mass_kg=12.5,
-        rng=5,
-        metadata={"specimen": "G0"},
-    )
-    return write_run_csv(df, path)
-
-
 def same_result(a, b) -> None:
     """Every field of two evaluation results equal exactly (NaN equal to NaN)."""
     for f in fields(a):
@@ -109,8 +92,8 @@ def test_respelled_run_reads_and_evaluates_exactly_alike(tmp_path, delimiter, de
     same_result(evaluate_steady_run(a), evaluate_steady_run(b))
 
 
-def test_instationary_run_with_decimal_commas_evaluates_exactly_alike(tmp_path):
-    dots = instationary_run(tmp_path / "ramp.csv")
+def test_instationary_run_with_decimal_commas_evaluates_exactly_alike(write_ramp_run, tmp_path):
+    dots = write_ramp_run(tmp_path / "ramp.csv")
     semi = tmp_path / "ramp_semi.csv"
     semi.write_text(respell(dots.read_text(), ";", ","), encoding="utf-8")
     a = evaluate_instationary_run(read_run(dots))
