@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import types
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd
@@ -293,52 +291,16 @@ def test_footage_bad_arguments_exit_2(extra, message, capsys):
     assert message in capsys.readouterr().err
 
 
-@dataclass
-class _FakeCamera:
-    fps: float = 1000.0
-    exposure_s: float = 1e-4
-    mm_per_px: float = 0.05
-    width_px: int = 64
-    height_px: int = 48
-    bit_depth: int = 8
-    gain: float = 1.0
-    read_noise_dn: float = 1.0
-    shot_noise: bool = True
-    rotation_deg: float = 0.0
-
-
-@dataclass
-class _FakeSpec:
-    preset: str
-    view: str
-    velocity_mps: float
-    n_frames: int
-    camera: _FakeCamera
-    seed: int
-    pressure_bar: float = 2.5
-    temperature_C: float = -4.0
-    humidity_pct: float = 70.0
-    salinity_pct: float = 0.0
-    sliding_direction: str = "+x"
-    contact_is: str = "bright"
-    rendered: list = field(default_factory=list)
-
-
 def test_footage_run_builds_the_spec_and_renders(run_cli, monkeypatch, tmp_path, capsys):
-    """With a stand-in renderer of the agreed contract (the real one is tested elsewhere)."""
+    """The renderer's own spec classes, with a stand-in ``render_footage`` of the agreed
+    signature that records its call (the real one is tested elsewhere)."""
     calls = []
 
     def render_footage(spec, out_dir, *, fmt="png", progress=None):
         calls.append((spec, out_dir, fmt))
         return Path(out_dir)
 
-    fake = types.ModuleType("synthetic.footage")
-    fake.CameraSettings, fake.FootageSpec, fake.render_footage = (
-        _FakeCamera,
-        _FakeSpec,
-        render_footage,
-    )
-    monkeypatch.setitem(sys.modules, "synthetic.footage", fake)
+    monkeypatch.setattr("synthetic.footage.render_footage", render_footage)
     argv = ["synth", "footage", "--out", str(tmp_path / "f"), "--fps", "2000", "--no-noise"]
     assert run_cli(argv) == 0
     ((spec, out_dir, fmt),) = calls
