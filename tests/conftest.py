@@ -1,8 +1,9 @@
-"""Fixtures shared by the test files: the console command, small rendered clips, a test-rig
-ramp run, file bytes."""
+"""Fixtures shared by the test files: the console command, small rendered clips and their
+meta.json, a test-rig ramp run, file bytes."""
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Sequence
 from os import PathLike
 from pathlib import Path
@@ -50,6 +51,26 @@ def render_clip() -> Callable[..., Path]:
         return folder
 
     return render
+
+
+@pytest.fixture(scope="session")
+def copy_meta() -> Callable[..., Path]:
+    """Copy a clip's ``meta.json`` into another footage folder, edited.
+
+    ``copy_meta(clip, folder, drop=(), **changes)`` writes ``folder/meta.json``: the clip's
+    metadata without the keys `drop`, with the keys `changes` set; returns its path.
+    """
+
+    def copy(clip: Path, folder: Path, drop: Sequence[str] = (), **changes) -> Path:
+        meta = json.loads((Path(clip) / "meta.json").read_text())
+        for key in drop:
+            meta.pop(key, None)
+        meta.update(changes)
+        path = Path(folder) / "meta.json"
+        path.write_text(json.dumps(meta))
+        return path
+
+    return copy
 
 
 @pytest.fixture(scope="session")

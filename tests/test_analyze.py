@@ -102,13 +102,11 @@ def test_steady_summary_matches_truth(analysed):
     assert mean == pytest.approx(t.contact_area_mm2.mean(), rel=0.02)
 
 
-def test_without_geometry_every_region_is_reported(clip, tmp_path):
+def test_without_geometry_every_region_is_reported(copy_meta, clip, tmp_path):
     """Any TIR footage (no block): regions with area, centroid and box; no element table."""
-    meta = json.loads((clip / "meta.json").read_text())
-    del meta["block"]
     folder = tmp_path / "plain"
     shutil.copytree(clip / "frames", folder)
-    (folder / "meta.json").write_text(json.dumps(meta))
+    copy_meta(clip, folder, drop=["block"])
     res = analyze_video(folder, tmp_path / "out", options=FAST)
     assert (tmp_path / "out" / "plain" / "regions.csv").is_file()
     assert res.elements.empty
@@ -131,13 +129,11 @@ def test_clip_folder_and_frames_folder_are_the_same_footage(clip, tmp_path):
     pd.testing.assert_frame_equal(a.frames, b.frames)
 
 
-def _broken_tree(root: Path, good: Path) -> dict[str, str]:
+def _broken_tree(root: Path, good: Path, copy_meta) -> dict[str, str]:
     """A tree with one good clip and one of each broken kind; returns name -> error words."""
     shutil.copytree(good, root / "good")
     (root / "empty").mkdir()  # a footage folder whose frames are missing
-    meta = json.loads((good / "meta.json").read_text())
-    del meta["frame_pattern"]
-    (root / "empty" / "meta.json").write_text(json.dumps(meta))
+    copy_meta(good, root / "empty", drop=["frame_pattern"])
     # frames with a stray non-image file
     stray = root / "stray"
     shutil.copytree(good / "frames", stray)
@@ -173,10 +169,10 @@ def _broken_tree(root: Path, good: Path) -> dict[str, str]:
             "mixed": "differs", "notjson": "JSON", "wrongtype": "fps", "clip": "clip.avi"}
 
 
-def test_batch_survives_every_kind_of_broken_video(run_cli, clip, tmp_path, capsys):
+def test_batch_survives_every_kind_of_broken_video(run_cli, copy_meta, clip, tmp_path, capsys):
     root = tmp_path / "tree"
     root.mkdir()
-    expected = _broken_tree(root, clip)
+    expected = _broken_tree(root, clip, copy_meta)
     out = tmp_path / "out"
     code = run_cli(["analyze", root, "--recursive", "--out", out, "--workers", "2",
                  "--no-progress", "--no-overlay-video", "--overlay-frames", "0", "--no-plots"])
