@@ -7,17 +7,17 @@ parameters (JSON), the comparison table (CSV) and a plot to ``examples/out/table
 """
 
 import json
-from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 
+from _common import output_folder
+
 from friction_model import DryWetParameters, calibrate_table_4_6, evaluate_on_table_4_6
 from friction_model.plots import plot_table_4_6
 
-out = Path(__file__).parent / "out" / "table_4_6"
-out.mkdir(parents=True, exist_ok=True)
+out = output_folder("table_4_6")
 
 _, rmse_default = evaluate_on_table_4_6(DryWetParameters())
 result = calibrate_table_4_6(n_starts=4, rng=5)

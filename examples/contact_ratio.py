@@ -9,17 +9,15 @@ Run: ``python examples/contact_ratio.py`` (about 25 s); writes a CSV and a bar c
 ``examples/out/contact_ratio/``.
 """
 
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from _common import output_folder, save_figure
 
 from friction_model.dynamics import reference_contact_ratios
 
-out = Path(__file__).parent / "out" / "contact_ratio"
-out.mkdir(parents=True, exist_ok=True)
+out = output_folder("contact_ratio")
 
 table = reference_contact_ratios()
 table.to_csv(out / "contact_ratio.csv", index=False)
@@ -31,6 +29,5 @@ ax.bar(table["sample"], table["contact_ratio"], color="0.5", label="real contact
 ax.plot(table["sample"], table["thesis_contact_ratio"], "o", color="C3", label="thesis, Fig. 4.21")
 ax.set(ylabel="real contact area / nominal area", ylim=(0, 1.05))
 ax.legend()
-fig.tight_layout()
-fig.savefig(out / "contact_ratio.png", dpi=130)
+save_figure(fig, out / "contact_ratio.png")
 print(f"wrote {out}")

@@ -4,17 +4,16 @@ Run: ``python examples/fig_4_26_dry_length.py``; writes PNG and CSV to
 ``examples/out/fig_4_26/``.
 """
 
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
 
+from _common import output_folder
+
 from friction_model import dry_run_in_length
 from friction_model.plots import fig_4_26_table, plot_fig_4_26
 
-out = Path(__file__).parent / "out" / "fig_4_26"
-out.mkdir(parents=True, exist_ok=True)
+out = output_folder("fig_4_26")
 
 table = fig_4_26_table()
 table.to_csv(out / "dry_length.csv", index=False)

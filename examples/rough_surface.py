@@ -22,35 +22,26 @@ Run: ``python examples/rough_surface.py``; writes
 ``examples/out/rough_surface/rough_surface.png`` and ``rough_surface.csv``.
 """
 
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 import numpy as np
+from _common import face_contact_block, output_folder, save_figure
 
-from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
+from friction_model.contact.laws import RelaxedFriction
 from friction_model.dynamics import SolverOptions
 from friction_model.dynamics.rigid import (
-    BlockParams,
     element_surface_profiles,
     simulate_block_dynamics,
 )
 
-out = Path(__file__).parent / "out" / "rough_surface"
-out.mkdir(parents=True, exist_ok=True)
+out = output_folder("rough_surface")
 
 V0, Y0, TAU = 5.0, 5.1e-3, 0.004
 TRACK = 0.04  # length of one pass of the profile, m
-params = BlockParams(
-    n_elements=4,
-    element_length_m=4.55e-3,
-    contact_model="face",
-    contact_stiffness_N_m=5e4,
-)
-law = ExponentialLaw(a1=0.2, a2=0.15, a3=-0.3)
+params, law = face_contact_block()
 
 rng = np.random.default_rng(56)
 s = np.linspace(0.0, TRACK, 1601)
@@ -101,7 +92,6 @@ t = res.data[res.data.element == 0]["time_s"].to_numpy()
 ax_z.plot(t, np.interp(t * V0, positions, heights) * 1e3, color="0.3")
 ax_z.set_ylabel("z (leading element) / mm")
 ax_z.set_xlabel("time / s")
-fig.tight_layout()
-fig.savefig(out / "rough_surface.png", dpi=130)
+save_figure(fig, out / "rough_surface.png")
 res.data.to_csv(out / "rough_surface.csv", index=False)
 print(f"wrote {out}")

@@ -13,8 +13,6 @@ amplitude are predictions; k4 (not determined by Table 4.6) is varied over 20-20
 Run: ``python examples/stick_slip.py``; writes ``examples/out/timoshenko/stick_slip.png``.
 """
 
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
@@ -23,12 +21,12 @@ from dataclasses import replace
 
 import matplotlib.pyplot as plt
 import numpy as np
+from _common import limit_cycle_run, output_folder, save_figure
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import REFERENCE_COMPOUND
-from friction_model.dynamics import velocity_ramp
 from friction_model.dynamics.stick_slip import loaded_mode_at_own_modulus_Hz
-from friction_model.dynamics.timoshenko import TimoshenkoParams, simulate_timoshenko
+from friction_model.dynamics.timoshenko import TimoshenkoParams
 
 F_THESIS_HZ = 1111.0
 F_RIG_HZ = 1500.0
@@ -38,8 +36,7 @@ V0 = 1.0
 K4_VALUES = (20.0, 50.0, 200.0)  # s/m: interval of the unidentified zero-crossing steepness
 WINDOW_S = 0.03  # analysis window at the end of the run
 
-out = Path(__file__).parent / "out" / "timoshenko"
-out.mkdir(parents=True, exist_ok=True)
+out = output_folder("timoshenko")
 
 rows = table_4_6_targets()
 rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
@@ -66,15 +63,7 @@ K_I = rubber.kelvin_voigt_s(f1)
 
 def limit_cycle(k4: float, t_end: float = 0.08):
     p = replace(base, E_Pa=E, kelvin_voigt_s=K_I)
-    res = simulate_timoshenko(
-        p,
-        velocity=velocity_ramp(0.0, V0, 0.0, 0.01),
-        normal_force=N,
-        friction=law_for(k4),
-        t_end_s=t_end,
-        n_output=int(t_end * 2e5) + 1,  # 5 us samples
-    )
-    d = res.data[res.data["time_s"] > t_end - WINDOW_S]
+    res, d = limit_cycle_run(p, law_for(k4), N, V0, t_end, WINDOW_S)
     t, x = d["time_s"].to_numpy(), d["tip_deflection_mm"].to_numpy()
     xc = x - x.mean()
     i = np.flatnonzero((xc[:-1] < 0) & (xc[1:] >= 0))
@@ -139,6 +128,5 @@ axes[2].plot(x, tip_velocity, lw=0.6)
 axes[2].set_xlabel("tip deflection r(d) / mm")
 axes[2].set_ylabel("tip velocity dr/dt(d) / (m/s)")
 axes[2].set_title("c) limit cycle", fontsize=9)
-fig.tight_layout()
-fig.savefig(out / "stick_slip.png", dpi=130)
+save_figure(fig, out / "stick_slip.png")
 print(f"wrote {out / 'stick_slip.png'}")

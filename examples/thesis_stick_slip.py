@@ -26,7 +26,6 @@ Run: ``python examples/thesis_stick_slip.py [--out FOLDER]`` (default
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
@@ -36,6 +35,7 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 import numpy as np
+from _common import example_arguments, save_figure
 
 from friction_model.discrepancy.stickslip import stick_slip_case, thesis_stick_slip_problem
 
@@ -43,11 +43,7 @@ MODULUS = "frequency_dependent_modulus"
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "out" /
-                        "thesis_stick_slip", help="output folder")
-    out: Path = parser.parse_args(argv).out
-    out.mkdir(parents=True, exist_ok=True)
+    out: Path = example_arguments(argv, __doc__, "thesis_stick_slip").out
 
     problem = thesis_stick_slip_problem()
     result = stick_slip_case(problem)
@@ -98,9 +94,7 @@ def _plot(problem, result, measured, sigma, base, corrected, path: Path) -> None
     ax_s.set_xlabel("modulus strength s (0: constant E)")
     ax_s.set_ylabel("frequency / Hz")
     ax_s.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 if __name__ == "__main__":

@@ -32,7 +32,6 @@ Run: ``python examples/thesis_table_4_6.py [--out FOLDER]`` (default
 
 from __future__ import annotations
 
-import argparse
 import textwrap
 import time
 from pathlib import Path
@@ -44,6 +43,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+from _common import example_arguments, save_figure
 
 from friction_model.discrepancy import SteadyProblem, run_discrepancy, write_result
 from friction_model.identification.table_4_6 import TABLE_4_6, table_4_6_targets
@@ -131,13 +131,9 @@ def report(label: str, result) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "out" /
-                        "thesis_table_4_6", help="output folder")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the synthetic noise")
-    args = parser.parse_args(argv)
+    args = example_arguments(argv, __doc__, "thesis_table_4_6", seed=0,
+                             seed_help="seed of the synthetic noise")
     out: Path = args.out
-    out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
 
     table, size = synthetic_table(args.seed)
@@ -182,9 +178,7 @@ def _plot(parts, path: Path) -> None:
         ax.legend(fontsize=8)
         ax.set_xlabel("velocity / (m/s)")
     axes[0].set_ylabel("mu  (dots: measured, dotted: base, line: + named effect)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 if __name__ == "__main__":

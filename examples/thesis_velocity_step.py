@@ -40,7 +40,6 @@ pipeline, ground truth, the model without and with the relaxation).
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
@@ -51,6 +50,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+from _common import example_arguments, save_figure
 
 from friction_model.discrepancy import run_discrepancy, write_result
 from friction_model.discrepancy.transient import TransientProblem
@@ -129,13 +129,9 @@ def measure(spec: FootageSpec, out: Path) -> tuple[pd.DataFrame, str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "out" /
-                        "thesis_velocity_step", help="output folder")
-    parser.add_argument("--seed", type=int, default=1, help="seed of the footage noise")
-    args = parser.parse_args(argv)
+    args = example_arguments(argv, __doc__, "thesis_velocity_step", seed=1,
+                             seed_help="seed of the footage noise")
     out: Path = args.out
-    out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
 
     spec = footage_spec(args.seed)
@@ -218,9 +214,7 @@ def _plot(result, problem: TransientProblem, lead: pd.DataFrame, path: Path) -> 
     ax_r.set_ylabel("residual / deg")
     ax_r.set_xlabel("time since the step / ms")
     ax_r.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,6 @@ Run: ``python examples/timoshenko_validation.py``; writes ``examples/out/timoshe
 """
 
 from dataclasses import replace
-from pathlib import Path
 
 import matplotlib
 
@@ -33,6 +32,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+from _common import limit_cycle_run, output_folder, save_figure
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import (
@@ -60,8 +60,7 @@ F_RIG_HZ, F_THESIS_SIM_HZ, R_THESIS_MM = 1500.0, 1111.0, 0.625
 E_BEFORE_PA = 1.05e6
 STEADY_K_I = 1e-3  # damping used only to reach the steady state (which does not depend on it)
 
-out = Path(__file__).parent / "out" / "timoshenko"
-out.mkdir(parents=True, exist_ok=True)
+out = output_folder("timoshenko")
 
 rows = table_4_6_targets()
 rows = rows[rows["curve"] == "cold-dry 2.5 bar"]
@@ -163,15 +162,7 @@ print(f"loaded first mode at E(f): {f_mode:.0f} Hz (E = {E_f / 1e6:.2f} MPa, k_i
 
 def limit_cycle(k4: float, t_end: float = 0.08) -> tuple[float, float, float, pd.DataFrame]:
     p = replace(element, E_Pa=E_f, kelvin_voigt_s=k_i)
-    res = simulate_timoshenko(
-        p,
-        velocity=velocity_ramp(0.0, V0, 0.0, 0.01),
-        normal_force=N,
-        friction=eq_5_24(k4),
-        t_end_s=t_end,
-        n_output=int(t_end * 2e5) + 1,
-    )
-    d = res.data[res.data["time_s"] > t_end - 0.03]
+    _, d = limit_cycle_run(p, eq_5_24(k4), N, V0, t_end, 0.03)
     t, x = d["time_s"].to_numpy(), d["tip_deflection_mm"].to_numpy()
     xc = x - x.mean()
     i = np.flatnonzero((xc[:-1] < 0) & (xc[1:] >= 0))
@@ -267,6 +258,5 @@ axes[1].plot(d["time_s"][sel] * 1e3, d["tip_deflection_mm"][sel])
 axes[1].set_xlabel("time / ms")
 axes[1].set_ylabel("tip deflection / mm")
 axes[1].set_title(f"stick-slip, one rubber: {cycles[K4_CENTRAL][0]:.0f} Hz", fontsize=9)
-fig.tight_layout()
-fig.savefig(out / "timoshenko_validation.png", dpi=130)
+save_figure(fig, out / "timoshenko_validation.png")
 print(f"wrote {out / 'predictions.md'}")

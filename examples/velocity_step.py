@@ -15,30 +15,22 @@ Run: ``python examples/velocity_step.py``; writes
 ``examples/out/velocity_step/velocity_step.png`` and ``velocity_step.csv``.
 """
 
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 import pandas as pd
+from _common import face_contact_block, output_folder, save_figure
 
-from friction_model.contact.laws import ExponentialLaw, RelaxedFriction
+from friction_model.contact.laws import RelaxedFriction
 from friction_model.dynamics import velocity_step
-from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
+from friction_model.dynamics.rigid import simulate_block_dynamics
 
-out = Path(__file__).parent / "out" / "velocity_step"
-out.mkdir(parents=True, exist_ok=True)
+out = output_folder("velocity_step")
 
 T_STEP, TAU, T_END = 0.2, 0.03, 0.4
-params = BlockParams(
-    n_elements=4,
-    element_length_m=4.55e-3,
-    contact_model="face",
-    contact_stiffness_N_m=5e4,
-)
-law = ExponentialLaw(a1=0.2, a2=0.15, a3=-0.3)
+params, law = face_contact_block()
 velocity = velocity_step(1.0, 5.0, T_STEP, rise_s=0.02)
 runs = {
     "steady friction (no Eq. 5.12)": law,
@@ -77,7 +69,6 @@ for ax, (label, friction) in zip(axes, runs.items(), strict=True):
     tables.append(res.data.assign(run=label))
 axes[-1].set_xlabel("time / s")
 fig.suptitle("Velocity step 1 -> 5 m/s at 0.2 s (cp. Fig. 5.7)")
-fig.tight_layout()
-fig.savefig(out / "velocity_step.png", dpi=130)
+save_figure(fig, out / "velocity_step.png")
 pd.concat(tables).to_csv(out / "velocity_step.csv", index=False)
 print(f"wrote {out}")

@@ -14,12 +14,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from tir_contact.analyze import ELEMENT_COLUMNS, FRAME_COLUMNS, AnalysisOptions, analyze_video
 from tir_contact.batch import analyze_batch, find_footage, is_current
-from tir_contact.cli import main
 
-SMALL = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128)
 ISSUE_FRAME_COLUMNS = [
     "frame", "time_s", "block_in_view", "block_front_x_mm", "contact_area_mm2",
     "contact_ratio", "n_elements_in_contact", "front_peak_x_mm", "front_peak_contrast",
@@ -31,30 +28,23 @@ ISSUE_ELEMENT_COLUMNS = [
 FAST = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0, parquet=False)
 
 
-def _render(folder: Path, fmt: str = "png", **kw) -> Path:
-    spec = FootageSpec(**{"preset": "G3", "velocity_mps": 3.0, "n_frames": 160,
-                          "dynamics": "steady", "camera": SMALL, **kw})
-    render_footage(spec, folder, fmt=fmt, progress=False)
-    return folder
+@pytest.fixture(scope="module")
+def clip(render_clip, tmp_path_factory) -> Path:
+    return render_clip(tmp_path_factory.mktemp("clips") / "G3_3mps")
 
 
 @pytest.fixture(scope="module")
-def clip(tmp_path_factory) -> Path:
-    return _render(tmp_path_factory.mktemp("clips") / "G3_3mps")
-
-
-@pytest.fixture(scope="module")
-def analysed(clip, tmp_path_factory) -> tuple[Path, Path]:
+def analysed(run_cli, clip, tmp_path_factory) -> tuple[Path, Path]:
     out = tmp_path_factory.mktemp("out")
-    code = main(["analyze", str(clip), "--out", str(out), "--workers", "1", "--no-progress",
+    code = run_cli(["analyze", clip, "--out", out, "--workers", "1", "--no-progress",
                  "--plots", "--overlay-video"])
     assert code == 0
     return clip, out / clip.name
 
 
-def test_default_outputs_are_the_cheap_ones(clip, tmp_path):
+def test_default_outputs_are_the_cheap_ones(run_cli, clip, tmp_path):
     out = tmp_path / "out"
-    assert main(["analyze", str(clip), "--out", str(out), "--workers", "1", "-q"]) == 0
+    assert run_cli(["analyze", clip, "--out", out, "--workers", "1", "-q"]) == 0
     files = sorted(p.name for p in (out / clip.name).iterdir())
     # tables, summary, the lit mask and a few overlay images; no plots, no overlay video
     # unless asked
@@ -112,13 +102,11 @@ def test_steady_summary_matches_truth(analysed):
     assert mean == pytest.approx(t.contact_area_mm2.mean(), rel=0.02)
 
 
-def test_without_geometry_every_region_is_reported(clip, tmp_path):
+def test_without_geometry_every_region_is_reported(copy_meta, clip, tmp_path):
     """Any TIR footage (no block): regions with area, centroid and box; no element table."""
-    meta = json.loads((clip / "meta.json").read_text())
-    del meta["block"]
     folder = tmp_path / "plain"
     shutil.copytree(clip / "frames", folder)
-    (folder / "meta.json").write_text(json.dumps(meta))
+    copy_meta(clip, folder, drop=["block"])
     res = analyze_video(folder, tmp_path / "out", options=FAST)
     assert (tmp_path / "out" / "plain" / "regions.csv").is_file()
     assert res.elements.empty
@@ -141,13 +129,11 @@ def test_clip_folder_and_frames_folder_are_the_same_footage(clip, tmp_path):
     pd.testing.assert_frame_equal(a.frames, b.frames)
 
 
-def _broken_tree(root: Path, good: Path) -> dict[str, str]:
+def _broken_tree(root: Path, good: Path, copy_meta) -> dict[str, str]:
     """A tree with one good clip and one of each broken kind; returns name -> error words."""
     shutil.copytree(good, root / "good")
     (root / "empty").mkdir()  # a footage folder whose frames are missing
-    meta = json.loads((good / "meta.json").read_text())
-    del meta["frame_pattern"]
-    (root / "empty" / "meta.json").write_text(json.dumps(meta))
+    copy_meta(good, root / "empty", drop=["frame_pattern"])
     # frames with a stray non-image file
     stray = root / "stray"
     shutil.copytree(good / "frames", stray)
@@ -183,12 +169,12 @@ def _broken_tree(root: Path, good: Path) -> dict[str, str]:
             "mixed": "differs", "notjson": "JSON", "wrongtype": "fps", "clip": "clip.avi"}
 
 
-def test_batch_survives_every_kind_of_broken_video(clip, tmp_path, capsys):
+def test_batch_survives_every_kind_of_broken_video(run_cli, copy_meta, clip, tmp_path, capsys):
     root = tmp_path / "tree"
     root.mkdir()
-    expected = _broken_tree(root, clip)
+    expected = _broken_tree(root, clip, copy_meta)
     out = tmp_path / "out"
-    code = main(["analyze", str(root), "--recursive", "--out", str(out), "--workers", "2",
+    code = run_cli(["analyze", root, "--recursive", "--out", out, "--workers", "2",
                  "--no-progress", "--no-overlay-video", "--overlay-frames", "0", "--no-plots"])
     assert code == 1
     report = pd.read_csv(out / "batch_report.csv").set_index("name")
@@ -212,9 +198,9 @@ def test_batch_survives_every_kind_of_broken_video(clip, tmp_path, capsys):
     assert "notes.docx" in err
 
 
-def test_empty_folder_given_directly_is_a_one_line_error(tmp_path, capsys):
+def test_empty_folder_given_directly_is_a_one_line_error(run_cli, tmp_path, capsys):
     (tmp_path / "nothing").mkdir()
-    code = main(["analyze", str(tmp_path / "nothing"), "--out", str(tmp_path / "out"),
+    code = run_cli(["analyze", tmp_path / "nothing", "--out", tmp_path / "out",
                  "--no-progress"])
     assert code == 1
     err = capsys.readouterr().err.strip().splitlines()
@@ -253,9 +239,9 @@ def test_a_failure_while_writing_keeps_the_old_result(clip, tmp_path, monkeypatc
     assert [p.name for p in out.iterdir()] == [clip.name]
 
 
-def test_block_that_never_leaves_gets_a_fitted_free_surface(tmp_path):
+def test_block_that_never_leaves_gets_a_fitted_free_surface(render_clip, tmp_path):
     """A clip showing only the middle of the pass: the percentile image holds the block."""
-    folder = _render(tmp_path / "stay", n_frames=12, center_time_s=0.0015)
+    folder = render_clip(tmp_path / "stay", n_frames=12, center_time_s=0.0015)
     truth = pd.read_csv(folder / "ground_truth.csv")
     block = truth[truth.element == -1].set_index("frame")
     assert block.in_view.all()
@@ -266,9 +252,9 @@ def test_block_that_never_leaves_gets_a_fitted_free_surface(tmp_path):
     assert (rel / block.contact_area_mm2).median() <= 0.05
 
 
-def test_side_view_deflection_against_ground_truth(tmp_path):
+def test_side_view_deflection_against_ground_truth(render_clip, tmp_path):
     """Side view through the pipeline: median angle error <= 0.5 deg (required)."""
-    folder = _render(tmp_path / "side", view="side", preset="G7")
+    folder = render_clip(tmp_path / "side", view="side", preset="G7")
     res = analyze_video(folder, tmp_path / "out", options=AnalysisOptions(
         overlay_video=True, overlay_frames=2, parquet=False, plots=True))
     truth = pd.read_csv(folder / "ground_truth.csv")
@@ -286,7 +272,7 @@ def test_side_view_deflection_against_ground_truth(tmp_path):
     assert len(list((out / "overlays").glob("*.png"))) == 2
 
 
-def test_calibrate_reads_the_analysis_output(analysed, tmp_path):
+def test_calibrate_reads_the_analysis_output(run_cli, analysed, tmp_path):
     """`tir-contact calibrate` takes an analyze result folder as it is (meta from summary.json).
 
     Truth: the renderer's per-element contact_fraction over the frames with the whole block in
@@ -294,7 +280,7 @@ def test_calibrate_reads_the_analysis_output(analysed, tmp_path):
     """
     clip, res = analysed
     params = tmp_path / "params.json"
-    code = main(["calibrate", "--footage", str(res), "--out", str(params)])
+    code = run_cli(["calibrate", "--footage", res, "--out", params])
     assert code == 0
     doc = json.loads(params.read_text())
     frames = pd.read_csv(res / "frames.csv")
@@ -305,10 +291,10 @@ def test_calibrate_reads_the_analysis_output(analysed, tmp_path):
     assert "lever_arm" in doc  # the sliding direction came from summary.json's meta
 
 
-def test_side_view_with_a_camera_following_the_block(tmp_path):
+def test_side_view_with_a_camera_following_the_block(render_clip, tmp_path):
     """The block is in every frame: no clean reference; per-frame background instead."""
-    folder = _render(tmp_path / "follow", view="side", preset="G3", n_frames=30,
-                     follow_camera=True)
+    folder = render_clip(tmp_path / "follow", view="side", preset="G3", n_frames=30,
+                         follow_camera=True)
     res = analyze_video(folder, options=FAST)
     assert res.summary["reference"]["method"].startswith("per-frame")
     truth = pd.read_csv(folder / "ground_truth.csv")

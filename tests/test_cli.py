@@ -122,6 +122,21 @@ def test_output_check_leaves_nothing_behind(tmp_path):
     assert list(tmp_path.iterdir()) == []  # no folder made, no probe file left
 
 
+def _every_command_runs(func, monkeypatch) -> None:
+    """Make :func:`tir_contact.cli.main` call `func(args)` instead of the command's ``run``
+    (the arguments parsed as usual)."""
+    parser = build_parser()
+    real_parse = parser.parse_args
+
+    def parse(argv=None):
+        args = real_parse(argv)
+        args.func = func
+        return args
+
+    monkeypatch.setattr(parser, "parse_args", parse)
+    monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
+
+
 @pytest.mark.parametrize(("exc", "code", "words"), [
     (ValueError("runs.csv: column 'mu' missing"), 2, "error: runs.csv: column 'mu' missing"),
     (FileNotFoundError(2, "No such file or directory", "x.csv"), 2, "No such file"),
@@ -131,16 +146,7 @@ def test_errors_from_a_command_are_one_line(monkeypatch, capsys, exc, code, word
     def fail(args: argparse.Namespace) -> int:
         raise exc
 
-    parser = build_parser()
-    real_parse = parser.parse_args
-
-    def parse(argv=None):
-        args = real_parse(argv)
-        args.func = fail
-        return args
-
-    monkeypatch.setattr(parser, "parse_args", parse)
-    monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
+    _every_command_runs(fail, monkeypatch)
     assert main(["demo"]) == code
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err and "Traceback" not in err
@@ -153,16 +159,7 @@ def test_quiet_switches_progress_off(monkeypatch):
         seen.update(vars(args))
         return 0
 
-    parser = build_parser()
-    real_parse = parser.parse_args
-
-    def parse(argv=None):
-        args = real_parse(argv)
-        args.func = record
-        return args
-
-    monkeypatch.setattr(parser, "parse_args", parse)
-    monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
+    _every_command_runs(record, monkeypatch)
     assert main(["analyze", "clip", "--out", "o", "-q"]) == 0
     assert seen["no_progress"] is True and seen["quiet"] is True
     seen.clear()

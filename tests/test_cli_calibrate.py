@@ -1,5 +1,5 @@
-"""Tests of ``tir-contact calibrate`` and ``tir-contact simulate`` (parsers built here) and of
-the parameter file (friction_model.params_file)."""
+"""Tests of ``tir-contact calibrate`` and ``tir-contact simulate`` (through the console entry
+point, fixture ``run_cli``) and of the parameter file (friction_model.params_file)."""
 
 from __future__ import annotations
 
@@ -32,16 +32,11 @@ from friction_model.params_file import (
     read_parameters,
     write_parameters,
 )
-from tir_contact import cli
 
 LAW = DecreasingSqrtLaw(A_D=0.03, B_D=0.12)
 E_TRUE, ETA_TRUE = 3.0e6, 0.25
 CF = np.array([0.9, 0.85, 0.8, 0.75])  # contact length / l_i of the four G3 elements
 P_BAR = 0.5  # nominal pressure: 80 N on the block, 20 N per element
-
-
-def main(argv: list[str]) -> int:
-    return cli.main(argv)
 
 
 def lever_truth() -> dict[str, float]:
@@ -146,7 +141,7 @@ def make_transient(path, seed=1):
     return path
 
 
-def test_calibrate_then_simulate(tmp_path, capsys):
+def test_calibrate_then_simulate(run_cli, tmp_path, capsys):
     tir = make_tir_results(tmp_path / "tir")
     char = make_characteristic(tmp_path / "steady.csv")
     trans = make_transient(tmp_path / "step.csv")
@@ -160,7 +155,7 @@ def test_calibrate_then_simulate(tmp_path, capsys):
         "--transient",
         str(trans),
     ]
-    assert main([*argv, "--out", str(out), "--pressure-bar", str(P_BAR)]) == 0
+    assert run_cli([*argv, "--out", out, "--pressure-bar", P_BAR]) == 0
     captured = capsys.readouterr()
     assert captured.out.startswith(
         f"wrote {out}: geometry, contact, lever_arm, friction_law, element"
@@ -199,7 +194,7 @@ def test_calibrate_then_simulate(tmp_path, capsys):
 
     sim = tmp_path / "sim"
     assert (
-        main(["simulate", "--params", str(out), "--out", str(sim), "--velocity-step", "1,5"]) == 0
+        run_cli(["simulate", "--params", out, "--out", sim, "--velocity-step", "1,5"]) == 0
     )
     assert "wrote mu_v.csv, mu_v.png, step_response.csv" in capsys.readouterr().out
     mu_v = pd.read_csv(sim / "mu_v.csv")
@@ -219,11 +214,11 @@ def test_calibrate_then_simulate(tmp_path, capsys):
         assert (sim / png).stat().st_size > 1000
 
 
-def test_calibrate_characteristic_only_writes_a_law_with_intervals(tmp_path, capsys):
+def test_calibrate_characteristic_only_writes_a_law_with_intervals(run_cli, tmp_path, capsys):
     char = make_characteristic(tmp_path / "steady.csv", seed=3)
     out = tmp_path / "p.json"
     assert (
-        main(
+        run_cli(
             [
                 "calibrate",
                 "--characteristic",
@@ -243,24 +238,24 @@ def test_calibrate_characteristic_only_writes_a_law_with_intervals(tmp_path, cap
     assert "element" not in read_parameters(out)
 
 
-def test_calibrate_errors_and_exit_codes(tmp_path, capsys):
+def test_calibrate_errors_and_exit_codes(run_cli, tmp_path, capsys):
     out = str(tmp_path / "p.json")
-    assert main(["calibrate", "--out", out]) == 2
+    assert run_cli(["calibrate", "--out", out]) == 2
     assert "give at least one of --footage" in capsys.readouterr().err
-    assert main(["calibrate", "--characteristic", str(tmp_path / "nope.csv"), "--out", out]) == 2
+    assert run_cli(["calibrate", "--characteristic", tmp_path / "nope.csv", "--out", out]) == 2
     assert "nope.csv: does not exist" in capsys.readouterr().err
     bad = tmp_path / "bad.csv"
     pd.DataFrame({"v": [1, 2], "mu": [0.1, 0.2]}).to_csv(bad, index=False)
-    assert main(["calibrate", "--characteristic", str(bad), "--out", out]) == 1
+    assert run_cli(["calibrate", "--characteristic", bad, "--out", out]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "bad.csv: column 'velocity_mps' missing" in err
-    assert main(["calibrate", "--footage", str(tmp_path), "--out", out]) == 2
+    assert run_cli(["calibrate", "--footage", tmp_path, "--out", out]) == 2
     assert "frames.csv does not exist" in capsys.readouterr().err
-    assert main(["calibrate", "--characteristic", str(bad), "--out", out, "--level", "1.5"]) == 2
+    assert run_cli(["calibrate", "--characteristic", bad, "--out", out, "--level", "1.5"]) == 2
 
 
-def test_simulate_errors(tmp_path, capsys):
-    assert main(["simulate", "--params", str(tmp_path / "none.json"), "--out", str(tmp_path)]) == 2
+def test_simulate_errors(run_cli, tmp_path, capsys):
+    assert run_cli(["simulate", "--params", tmp_path / "none.json", "--out", tmp_path]) == 2
     assert "none.json: does not exist" in capsys.readouterr().err
     broken = tmp_path / "broken.json"
     broken.write_text(
@@ -272,7 +267,7 @@ def test_simulate_errors(tmp_path, capsys):
             }
         )
     )
-    assert main(["simulate", "--params", str(broken), "--out", str(tmp_path / "o")]) == 1
+    assert run_cli(["simulate", "--params", broken, "--out", tmp_path / "o"]) == 1
     assert "'friction_law.params.B_D' is missing" in capsys.readouterr().err
 
 
@@ -315,7 +310,7 @@ def test_parameter_file_round_trip_and_errors(tmp_path):
     assert not (tmp_path / "q.json").exists()
 
 
-def test_calibrate_on_a_synthetic_transient_table(tmp_path, capsys):
+def test_calibrate_on_a_synthetic_transient_table(run_cli, tmp_path, capsys):
     """synthetic.measurements' velocity step (friction follows the carriage): E0, tan(delta)."""
     from synthetic.measurements import make_transient_table, write_table
 
@@ -324,7 +319,7 @@ def test_calibrate_on_a_synthetic_transient_table(tmp_path, capsys):
     path = write_table(table, tmp_path / "step.csv")
     out = tmp_path / "p.json"
     argv = ["calibrate", "--transient", str(path), "--pressure-bar", "0.8", "--no-tip-feedback"]
-    assert main([*argv, "--out", str(out), "--ci", "jacobian"]) == 0
+    assert run_cli([*argv, "--out", out, "--ci", "jacobian"]) == 0
     el = read_parameters(out)["element"]
     # exact forward model, 0.5 % noise on a 19 deg angle. Spread over 40 seeds: E 0.12 %,
     # tan(delta) 0.63 %, mu before/after 0.11 % standard deviation (with 2 % noise E scatters

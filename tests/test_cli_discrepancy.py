@@ -8,7 +8,6 @@ import pytest
 
 from synthetic.effect_size import strength_for_effect_size
 from synthetic.measurements import make_steady_table, make_transient_table, write_table
-from tir_contact.cli import main
 
 GRID = {"velocities_mps": [1, 3, 5], "pressures_bar": [1, 2.5, 5],
         "temperatures_C": [-6, -3, -1.5], "humidities_pct": [40, 90],
@@ -16,12 +15,12 @@ GRID = {"velocities_mps": [1, 3, 5], "pressures_bar": [1, 2.5, 5],
 FAST = ["--bootstrap", "30", "--permutations", "99", "--max-effects", "1"]
 
 
-def test_steady_table_names_the_hidden_effect(tmp_path, capsys):
+def test_steady_table_names_the_hidden_effect(run_cli, tmp_path, capsys):
     # effect size 3 x the 5 % noise: the "must be found" regime
     strength = strength_for_effect_size("humidity_water_layer", 3.0, noise=0.05, grid=GRID)
     table = make_steady_table(GRID, effects={"humidity_water_layer": strength}, rng=4)
     path = write_table(table, tmp_path / "steady.csv")
-    code = main(["discrepancy", "--steady", str(path), "--out", str(tmp_path / "d"), *FAST])
+    code = run_cli(["discrepancy", "--steady", path, "--out", tmp_path / "d", *FAST])
     assert code == 0
     line = capsys.readouterr().out.strip().splitlines()[-1]
     assert line.startswith("missing effect: humidity_water_layer")
@@ -36,22 +35,22 @@ def test_steady_table_names_the_hidden_effect(tmp_path, capsys):
     assert list((tmp_path / "d").glob("*.png"))
 
 
-def test_transient_table_names_friction_relaxation(tmp_path, capsys):
+def test_transient_table_names_friction_relaxation(run_cli, tmp_path, capsys):
     table = make_transient_table(effects={"friction_relaxation": 1.0}, rng=2)
     path = write_table(table, tmp_path / "step.csv")
-    code = main(["discrepancy", "--transient", str(path), "--out", str(tmp_path / "d"), *FAST])
+    code = run_cli(["discrepancy", "--transient", path, "--out", tmp_path / "d", *FAST])
     assert code == 0
     assert "missing effect: friction_relaxation" in capsys.readouterr().out
 
 
-def test_stick_slip_names_the_modulus(tmp_path, capsys):
-    code = main(["discrepancy", "--stick-slip", "1500,1111", "--out", str(tmp_path / "d")])
+def test_stick_slip_names_the_modulus(run_cli, tmp_path, capsys):
+    code = run_cli(["discrepancy", "--stick-slip", "1500,1111", "--out", tmp_path / "d"])
     assert code == 0
     assert capsys.readouterr().out.startswith("missing effect: frequency_dependent_modulus")
 
 
-def test_bad_input_is_one_line(tmp_path, capsys):
-    code = main(["discrepancy", "--steady", str(tmp_path / "nope.csv"), "--out",
+def test_bad_input_is_one_line(run_cli, tmp_path, capsys):
+    code = run_cli(["discrepancy", "--steady", tmp_path / "nope.csv", "--out",
                  str(tmp_path / "d")])
     assert code == 1
     err = capsys.readouterr().err.strip().splitlines()

@@ -1,8 +1,7 @@
-"""Tests of the ``tir-contact evaluate`` sub-command (parser built here with add_parser)."""
+"""Tests of the ``tir-contact evaluate`` sub-command (through the console entry point)."""
 
 from __future__ import annotations
 
-import argparse
 import math
 from pathlib import Path
 
@@ -12,25 +11,14 @@ import pytest
 from numpy.testing import assert_allclose
 
 from synthetic.rig import make_raw_run, write_run_csv
-from tir_contact import cli
 
 F_N = 300.0  # N, spring preload of the synthetic runs
 MASS = 12.5  # kg, inertial mass written to the metadata
 
 
-def law(v):
-    return 0.12 + 0.25 * np.exp(-np.asarray(v) / 1.5)
-
-
-def parser() -> argparse.ArgumentParser:
-    return cli.build_parser("evaluate")
-
-
-def main(argv: list[str]) -> int:
-    return cli.main(argv)
-
-
-def make_folder(folder: Path, *, broken: bool = False, instationary: bool = False) -> Path:
+def make_folder(folder: Path, *, broken: bool = False, ramp=None) -> Path:
+    """Six steady runs (G0, G3) in `folder`; with `broken` an unreadable G5 run, with `ramp`
+    (the fixture ``write_ramp_run``) the instationary ramp run G0_ramp.csv."""
     folder.mkdir()
     for spec, mu in (("G0", 0.22), ("G3", 0.26)):
         for run in (1, 2, 3):
@@ -47,29 +35,15 @@ def make_folder(folder: Path, *, broken: bool = False, instationary: bool = Fals
         (folder / "G5_run1.csv").write_text(
             "# specimen: G5\ntime_s,velocity_mps,normal_force_N\n0,0,300\n0.001,0,300\n"
         )
-    if instationary:
-        df = make_raw_run(
-            law,
-            kind="instationary",
-            velocity_mps=3.0,
-            accel_mps2=4.0,
-            decel_mps2=4.0,
-            sample_rate_Hz=4000,
-            normal_force_N=F_N,
-            normal_force_ripple=0.0,
-            force_noise_N=1.0,
-            inertial_mass_kg=MASS,
-            rng=5,
-            metadata={"specimen": "G0"},
-        )
-        write_run_csv(df, folder / "G0_ramp.csv")
+    if ramp is not None:
+        ramp(folder / "G0_ramp.csv", normal_force_ripple=0.0)
     return folder
 
 
-def test_evaluate_folder_success(tmp_path, capsys):
+def test_evaluate_folder_success(run_cli, tmp_path, capsys):
     runs = make_folder(tmp_path / "runs")
     out = tmp_path / "out"
-    assert main(["evaluate", str(runs), "--out", str(out), "--no-progress"]) == 0
+    assert run_cli(["evaluate", runs, "--out", out, "--no-progress"]) == 0
     captured = capsys.readouterr()
     assert captured.err == ""
     assert "evaluated 6 steady and 0 instationary runs, 0 failed" in captured.out
@@ -85,10 +59,10 @@ def test_evaluate_folder_success(tmp_path, capsys):
     assert len(list((out / "mu_t").glob("*.png"))) == 6
 
 
-def test_broken_file_exit_code_and_stderr(tmp_path, capsys):
+def test_broken_file_exit_code_and_stderr(run_cli, tmp_path, capsys):
     runs = make_folder(tmp_path / "runs", broken=True)
     out = tmp_path / "out"
-    assert main(["evaluate", str(runs), "--out", str(out), "--no-plots", "--no-progress"]) == 1
+    assert run_cli(["evaluate", runs, "--out", out, "--no-plots", "--no-progress"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     broken = runs / "G5_run1.csv"
     assert len(err) == 1
@@ -100,11 +74,13 @@ def test_broken_file_exit_code_and_stderr(tmp_path, capsys):
     assert not (out / "mu_v.png").exists()
 
 
-def test_instationary_run_in_folder_and_mass_override(tmp_path, capsys):
-    runs = make_folder(tmp_path / "runs", instationary=True)
+def test_instationary_run_in_folder_and_mass_override(
+    run_cli, write_ramp_run, ramp_law, tmp_path, capsys
+):
+    runs = make_folder(tmp_path / "runs", ramp=write_ramp_run)
     out = tmp_path / "out"
     argv = ["evaluate", str(runs / "G0_ramp.csv"), "--out", str(out), "--no-plots"]
-    assert main([*argv, "--bin-width", "0.5"]) == 0
+    assert run_cli([*argv, "--bin-width", "0.5"]) == 0
     assert "G0_ramp.csv: m = 12.5 kg, 6 accelerating and 6 decelerating bins" in (
         capsys.readouterr().out
     )
@@ -112,10 +88,10 @@ def test_instationary_run_in_folder_and_mass_override(tmp_path, capsys):
     assert_allclose(inst["inertial_mass_kg"], MASS, rtol=0)
     # bins of 0.5 m/s up to 3 m/s; law recovered after inertia removal (bin se ~1e-4, law
     # curvature over 0.5 m/s < 1e-3)
-    assert_allclose(inst["mu"], law(inst["velocity_mps"]), atol=2e-3)
+    assert_allclose(inst["mu"], ramp_law(inst["velocity_mps"]), atol=2e-3)
     # --mass-kg 0 keeps the inertial force: mu + m a / F_N while accelerating
     out0 = tmp_path / "out0"
-    assert main([*argv[:3], str(out0), "--no-plots", "--bin-width", "0.5", "--mass-kg", "0"]) == 0
+    assert run_cli([*argv[:3], out0, "--no-plots", "--bin-width", "0.5", "--mass-kg", "0"]) == 0
     biased = pd.read_csv(out0 / "instationary_characteristic.csv")
     acc = (biased["branch"] == "accelerating") & (biased["velocity_mps"] < 2.5)
     assert_allclose(
@@ -123,12 +99,12 @@ def test_instationary_run_in_folder_and_mass_override(tmp_path, capsys):
     )
 
 
-def test_forced_instationary_flag(tmp_path):
-    runs = make_folder(tmp_path / "runs", instationary=True)
+def test_forced_instationary_flag(run_cli, write_ramp_run, tmp_path):
+    runs = make_folder(tmp_path / "runs", ramp=write_ramp_run)
     out = tmp_path / "out"
     # a steady run read as instationary: its ramps give both branches, the plateau none
     argv = ["evaluate", str(runs / "G0_run1.csv"), "--out", str(out), "--no-plots"]
-    assert main([*argv, "--instationary", "--bin-width", "0.25"]) == 0
+    assert run_cli([*argv, "--instationary", "--bin-width", "0.25"]) == 0
     inst = pd.read_csv(out / "instationary_characteristic.csv")
     assert set(inst["branch"]) == {"accelerating", "decelerating"}
     # ramp at 5 m/s^2 to 1 m/s, bins below 1 m/s: mu = 0.22 after removing m a
@@ -137,11 +113,11 @@ def test_forced_instationary_flag(tmp_path):
 
 
 @pytest.mark.parametrize("bad", [["--bin-width", "0"], ["--bin-width", "x"], ["--mass-kg", "-1"]])
-def test_bad_option_values(tmp_path, bad):
-    assert main(["evaluate", str(tmp_path), "--out", str(tmp_path / "o"), *bad]) == 2
+def test_bad_option_values(run_cli, tmp_path, bad):
+    assert run_cli(["evaluate", tmp_path, "--out", tmp_path / "o", *bad]) == 2
 
 
-def test_empty_folder_fails(tmp_path, capsys):
+def test_empty_folder_fails(run_cli, tmp_path, capsys):
     (tmp_path / "empty").mkdir()
-    assert main(["evaluate", str(tmp_path / "empty"), "--out", str(tmp_path / "o")]) == 1
+    assert run_cli(["evaluate", tmp_path / "empty", "--out", tmp_path / "o"]) == 1
     assert "folder contains no *.csv files" in capsys.readouterr().err

@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import types
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd
@@ -53,21 +51,19 @@ SMALL = {
 
 
 def parser() -> argparse.ArgumentParser:
-    return cli.build_parser("synth")
+    return cli.build_parser(("synth",))
 
 
-def main(argv: list[str]) -> int:
-    return cli.main(argv)
+@pytest.fixture
+def measurements(run_cli):
+    """``measurements(kind, out, *extra)``: ``tir-contact synth measurements`` of a small
+    table of `kind` into `out`; returns the exit code."""
 
+    def run(kind: str, out: Path, *extra: str) -> int:
+        return run_cli(["synth", "measurements", "--kind", kind, "--out", out, *SMALL[kind],
+                        *extra])
 
-def measurements(kind: str, out: Path, *extra: str) -> int:
-    return main(["synth", "measurements", "--kind", kind, "--out", str(out), *SMALL[kind], *extra])
-
-
-def all_bytes(path: Path) -> dict[str, bytes]:
-    if path.is_dir():
-        return {f.name: f.read_bytes() for f in sorted(path.iterdir())}
-    return {path.name: path.read_bytes()}
+    return run
 
 
 def out_path(tmp_path: Path, kind: str, name: str = "out") -> Path:
@@ -75,7 +71,7 @@ def out_path(tmp_path: Path, kind: str, name: str = "out") -> Path:
 
 
 # -- measurements ----------------------------------------------------------------------------
-def test_steady_end_to_end(tmp_path, capsys):
+def test_steady_end_to_end(measurements, tmp_path, capsys):
     out = out_path(tmp_path, "steady")
     assert measurements("steady", out, "--effect", "viscous_shear", "--seed", "3") == 0
     table = pd.read_csv(out)
@@ -86,7 +82,7 @@ def test_steady_end_to_end(tmp_path, capsys):
     assert "viscous_shear" not in lines[0]  # not announced without --reveal
 
 
-def test_transient_end_to_end(tmp_path, capsys):
+def test_transient_end_to_end(measurements, tmp_path, capsys):
     out = out_path(tmp_path, "transient")
     rc = measurements(
         "transient", out, "--effect", "friction_relaxation=1.5", "--velocities", "2,4"
@@ -100,7 +96,7 @@ def test_transient_end_to_end(tmp_path, capsys):
     assert capsys.readouterr().out.startswith("transient: wrote 1001 rows")
 
 
-def test_raw_end_to_end(tmp_path, capsys):
+def test_raw_end_to_end(measurements, tmp_path, capsys):
     out = out_path(tmp_path, "raw")
     rc = measurements("raw", out, "--profile", "instationary", "--no-sensor-noise")
     assert rc == 0
@@ -111,29 +107,29 @@ def test_raw_end_to_end(tmp_path, capsys):
     assert capsys.readouterr().out.startswith("raw: wrote 2 runs")
 
 
-def test_registered_in_the_top_level_cli(tmp_path, capsys):
+def test_registered_in_the_top_level_cli(run_cli, tmp_path, capsys):
     out = tmp_path / "t.csv"
-    assert cli.main(["synth", "measurements", "--kind", "transient", "--out", str(out)]) == 0
+    assert run_cli(["synth", "measurements", "--kind", "transient", "--out", out]) == 0
     assert out.exists()
 
 
 @pytest.mark.parametrize("kind", ["steady", "transient", "raw"])
-def test_same_seed_same_bytes(kind, tmp_path):
+def test_same_seed_same_bytes(measurements, tree_bytes, kind, tmp_path):
     effect = ["--effect", "humidity_water_layer", "--effect", "frequency_dependent_modulus"]
     outs = [out_path(tmp_path, kind, name) for name in ("a", "b", "c")]
     for out, seed in zip(outs, ("5", "5", "6"), strict=True):
         assert measurements(kind, out, *effect, "--seed", seed) == 0
-    a, b, c = (all_bytes(o) for o in outs)
+    a, b, c = (tree_bytes(o) for o in outs)
     assert list(a.values()) == list(b.values())
     assert all(x != y for x, y in zip(a.values(), c.values(), strict=True))
 
 
 @pytest.mark.parametrize("kind", ["steady", "transient", "raw"])
-def test_reveal_writes_the_truth_and_only_then(kind, tmp_path, capsys):
+def test_reveal_writes_the_truth_and_only_then(measurements, tree_bytes, kind, tmp_path, capsys):
     effects = ["--effect", "ice_preheating=0.5", "--effect", "friction_relaxation"]
     hidden = out_path(tmp_path, kind, "hidden")
     assert measurements(kind, hidden, *effects) == 0
-    for content in all_bytes(hidden).values():
+    for content in tree_bytes(hidden).values():
         assert not any(name.encode() in content for name in EFFECT_NAMES)
     assert not list(tmp_path.glob("*.truth.json"))
     shown = out_path(tmp_path, kind, "shown")
@@ -170,13 +166,14 @@ def test_strength_option_applies_to_all_or_pairwise():
         (["--kind", "steady"], "--out"),
     ],
 )
-def test_argparse_errors_exit_2_naming_the_option(argv, message, capsys):
-    assert main(["synth", "measurements", *argv]) == 2
+def test_argparse_errors_exit_2_naming_the_option(run_cli, argv, message, capsys):
+    assert run_cli(["synth", "measurements", *argv]) == 2
     assert message in capsys.readouterr().err
 
 
-def test_unknown_effect_message_lists_the_valid_ones(capsys):
-    assert main(["synth", "measurements", "--kind", "raw", "--out", "x", "--effect", "bogus"]) == 2
+def test_unknown_effect_message_lists_the_valid_ones(run_cli, capsys):
+    argv = ["synth", "measurements", "--kind", "raw", "--out", "x", "--effect", "bogus"]
+    assert run_cli(argv) == 2
     err = capsys.readouterr().err
     assert all(name in err for name in EFFECT_NAMES)
 
@@ -197,16 +194,18 @@ def test_unknown_effect_message_lists_the_valid_ones(capsys):
         ("steady", ["--repeats", "1"], "--repeats"),
     ],
 )
-def test_inconsistent_options_return_2_naming_the_option(kind, extra, message, tmp_path, capsys):
+def test_inconsistent_options_return_2_naming_the_option(
+    run_cli, kind, extra, message, tmp_path, capsys
+):
     out = out_path(tmp_path, kind)
-    assert main(["synth", "measurements", "--kind", kind, "--out", str(out), *extra]) == 2
+    assert run_cli(["synth", "measurements", "--kind", kind, "--out", out, *extra]) == 2
     assert message in capsys.readouterr().err
     assert not out.exists()
 
 
-def test_a_condition_the_model_refuses_returns_1(tmp_path, capsys):
+def test_a_condition_the_model_refuses_returns_1(run_cli, tmp_path, capsys):
     out = tmp_path / "s.csv"
-    rc = main(
+    rc = run_cli(
         ["synth", "measurements", "--kind", "steady", "--out", str(out), "--temperatures", "5"]
     )
     assert rc == 1
@@ -292,54 +291,18 @@ def test_footage_bad_arguments_exit_2(extra, message, capsys):
     assert message in capsys.readouterr().err
 
 
-@dataclass
-class _FakeCamera:
-    fps: float = 1000.0
-    exposure_s: float = 1e-4
-    mm_per_px: float = 0.05
-    width_px: int = 64
-    height_px: int = 48
-    bit_depth: int = 8
-    gain: float = 1.0
-    read_noise_dn: float = 1.0
-    shot_noise: bool = True
-    rotation_deg: float = 0.0
-
-
-@dataclass
-class _FakeSpec:
-    preset: str
-    view: str
-    velocity_mps: float
-    n_frames: int
-    camera: _FakeCamera
-    seed: int
-    pressure_bar: float = 2.5
-    temperature_C: float = -4.0
-    humidity_pct: float = 70.0
-    salinity_pct: float = 0.0
-    sliding_direction: str = "+x"
-    contact_is: str = "bright"
-    rendered: list = field(default_factory=list)
-
-
-def test_footage_run_builds_the_spec_and_renders(monkeypatch, tmp_path, capsys):
-    """With a stand-in renderer of the agreed contract (the real one is tested elsewhere)."""
+def test_footage_run_builds_the_spec_and_renders(run_cli, monkeypatch, tmp_path, capsys):
+    """The renderer's own spec classes, with a stand-in ``render_footage`` of the agreed
+    signature that records its call (the real one is tested elsewhere)."""
     calls = []
 
     def render_footage(spec, out_dir, *, fmt="png", progress=None):
         calls.append((spec, out_dir, fmt))
         return Path(out_dir)
 
-    fake = types.ModuleType("synthetic.footage")
-    fake.CameraSettings, fake.FootageSpec, fake.render_footage = (
-        _FakeCamera,
-        _FakeSpec,
-        render_footage,
-    )
-    monkeypatch.setitem(sys.modules, "synthetic.footage", fake)
+    monkeypatch.setattr("synthetic.footage.render_footage", render_footage)
     argv = ["synth", "footage", "--out", str(tmp_path / "f"), "--fps", "2000", "--no-noise"]
-    assert main(argv) == 0
+    assert run_cli(argv) == 0
     ((spec, out_dir, fmt),) = calls
     assert (spec.preset, spec.view, spec.n_frames, fmt) == ("G3", "tir", 400, "png")
     assert (spec.camera.fps, spec.camera.shot_noise, spec.camera.read_noise_dn) == (
@@ -351,14 +314,14 @@ def test_footage_run_builds_the_spec_and_renders(monkeypatch, tmp_path, capsys):
     assert capsys.readouterr().out.startswith("footage: rendered 400 frames")
 
 
-def test_footage_without_renderer_fails_with_a_message(monkeypatch, capsys):
+def test_footage_without_renderer_fails_with_a_message(run_cli, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "synthetic.footage", None)  # import raises ImportError
-    assert main(["synth", "footage", "--out", "d"]) == 1
+    assert run_cli(["synth", "footage", "--out", "d"]) == 1
     assert "synthetic.footage" in capsys.readouterr().err
 
 
 # -- footage with the look of real footage ---------------------------------------------------
-def test_footage_real_look_options_reach_the_renderer(tmp_path, capsys):
+def test_footage_real_look_options_reach_the_renderer(run_cli, tree_bytes, tmp_path, capsys):
     """The real-footage options render what the library renders for the same spec."""
     from synthetic.footage import CameraSettings, FootageSpec, lit_mask, render_footage
 
@@ -367,13 +330,13 @@ def test_footage_real_look_options_reach_the_renderer(tmp_path, capsys):
             "--lit-shape", "disc", "--lit-fraction", "0.3", "--white-level", "0.4",
             "--jpeg-quality", "85", "--real-contact", "patchy", "--width", "160",
             "--height", "128", "--mm-per-px", "0.05"]
-    assert main(argv) == 0
+    assert run_cli(argv) == 0
     assert "(jpg)" in capsys.readouterr().out
     spec = FootageSpec(
         scene="round_pad", real_contact="patchy", n_frames=2, seed=1,
         camera=CameraSettings(lit_shape="disc", lit_fraction=0.3, white_level=0.4,
                               jpeg_quality=85, width_px=160, height_px=128, mm_per_px=0.05))
     ref = render_footage(spec, tmp_path / "lib", fmt="jpg", progress=False)
-    assert all_bytes(out / "frames") == all_bytes(ref / "frames")
+    assert tree_bytes(out / "frames") == tree_bytes(ref / "frames")
     assert (out / "lit_mask.png").is_file()
     assert lit_mask(spec).mean() == pytest.approx(0.3, abs=0.01)  # the requested share

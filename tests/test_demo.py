@@ -6,12 +6,11 @@ import numpy as np
 import pytest
 
 from friction_model import Conditions, DryWetParameters, friction_table, reference_block
-from tir_contact.cli import main
 from tir_contact.commands.demo import run_demo
 
 
 @pytest.mark.slow
-def test_run_demo_recovers_the_known_friction_and_contact(tmp_path, capsys):
+def test_run_demo_recovers_the_known_friction_and_contact(run_cli, tmp_path, capsys):
     """The synthetic rig runs carry the model's mu as the truth: the evaluation gives it back
     within 0.5 %; the footage analysis gives the rendered contact area within 2 % and the
     deflection angle within 0.2 deg; the command prints the result's report."""
@@ -32,7 +31,7 @@ def test_run_demo_recovers_the_known_friction_and_contact(tmp_path, capsys):
     assert side.measured == pytest.approx(side.truth, abs=0.2)
     assert set(result.table_4_6_rmse) >= {"all"} and result.table_4_6_rmse["all"] < 0.02
     assert (tmp_path / "demo" / "discrepancy_stick_slip.json").is_file()
-    assert main(["demo", "--out", str(tmp_path / "again"), "--runs", "1"]) == 0
+    assert run_cli(["demo", "--out", tmp_path / "again", "--runs", "1"]) == 0
     printed = capsys.readouterr().out.strip()
     assert printed.replace("again", "demo") == result.report()
 
@@ -43,6 +42,6 @@ def test_run_demo_checks_the_number_of_runs(tmp_path):
     assert not any(tmp_path.iterdir())
 
 
-def test_demo_runs_option_is_a_usage_error(tmp_path, capsys):
-    assert main(["demo", "--out", str(tmp_path / "d"), "--runs", "0"]) == 2
+def test_demo_runs_option_is_a_usage_error(run_cli, tmp_path, capsys):
+    assert run_cli(["demo", "--out", tmp_path / "d", "--runs", "0"]) == 2
     assert "argument --runs: expected an integer in 1..10, got '0'" in capsys.readouterr().err

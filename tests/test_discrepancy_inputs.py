@@ -18,7 +18,6 @@ from friction_model.discrepancy import (
     read_transient_table,
 )
 from friction_model.identification.identify import read_characteristic
-from tir_contact.cli import main
 
 STEADY_COLUMNS = ["velocity_mps", "pressure_bar", "temperature_C", "humidity_pct",
                   "salinity_pct", "n_sipes", "mu", "mu_std"]
@@ -163,11 +162,11 @@ def test_bad_elements_file_names_row(tmp_path):
         read_elements_table(path)
 
 
-def test_cli_discrepancy_bad_steady_file_is_one_line_naming_file_and_row(tmp_path, capsys):
+def test_cli_discrepancy_bad_steady_file_is_one_line_naming_file_and_row(run_cli, tmp_path, capsys):
     rows = steady_rows()
     rows[3][6] = "0,125"  # a decimal comma in a comma-separated file: an extra field
     path = write(tmp_path / "steady.csv", STEADY_COLUMNS, rows)
-    code = main(["discrepancy", "--steady", str(path), "--out", str(tmp_path / "d")])
+    code = run_cli(["discrepancy", "--steady", path, "--out", tmp_path / "d"])
     assert code == 1  # the data cannot be used
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [
@@ -178,13 +177,13 @@ def test_cli_discrepancy_bad_steady_file_is_one_line_naming_file_and_row(tmp_pat
     assert not (tmp_path / "d" / "result.json").exists()
 
 
-def test_cli_discrepancy_bad_transient_file_names_it(tmp_path, capsys):
+def test_cli_discrepancy_bad_transient_file_names_it(run_cli, tmp_path, capsys):
     good = write(tmp_path / "good.csv", ["time_s", "velocity_mps", "angle_deg"],
                  transient_rows())
     rows = transient_rows()
     rows[7][1] = "fast"
     bad = write(tmp_path / "bad.csv", ["time_s", "velocity_mps", "angle_deg"], rows, ";", ",")
-    code = main(["discrepancy", "--transient", str(good), str(bad), "--out",
+    code = run_cli(["discrepancy", "--transient", good, bad, "--out",
                  str(tmp_path / "d")])
     assert code == 1
     err = capsys.readouterr().err.strip().splitlines()

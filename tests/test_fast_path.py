@@ -16,7 +16,6 @@ import pytest
 from skimage.measure import label
 
 import tir_contact.frame as frame_module
-from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.analyze import AnalysisOptions, analyze_video
@@ -119,12 +118,8 @@ def test_label_contact_matches_scikit_image():
 
 
 @pytest.fixture(scope="module")
-def clip(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("fast") / "G3"
-    spec = FootageSpec(preset="G3", velocity_mps=3.0, n_frames=120, dynamics="steady",
-                       camera=CameraSettings(mm_per_px=0.2, width_px=320, height_px=128))
-    render_footage(spec, folder, fmt="multitiff", progress=False)
-    return folder
+def clip(render_clip, tmp_path_factory):
+    return render_clip(tmp_path_factory.mktemp("fast") / "G3", "multitiff", n_frames=120)
 
 
 @pytest.mark.parametrize("regions", ["auto", "always"])

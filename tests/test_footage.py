@@ -349,18 +349,12 @@ def test_pixel_integration_conserves_the_contact_length(a, length, pitch, blur):
 SMALL = {"preset": "G3", "n_frames": 5, "dynamics": "steady", "settle_s": 0.01}
 
 
-def _all_bytes(folder):
-    return {
-        p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()
-    }
-
-
-def test_same_seed_same_bytes_other_seed_other_noise(tmp_path):
+def test_same_seed_same_bytes_other_seed_other_noise(tree_bytes, tmp_path):
     spec = FootageSpec(**SMALL, seed=7)
-    a = _all_bytes(render_footage(spec, tmp_path / "a", progress=False))
-    b = _all_bytes(render_footage(spec, tmp_path / "b", progress=False))
+    a = tree_bytes(render_footage(spec, tmp_path / "a", progress=False))
+    b = tree_bytes(render_footage(spec, tmp_path / "b", progress=False))
     assert a == b and len(a) == 5 + 2
-    c = _all_bytes(render_footage(FootageSpec(**SMALL, seed=8), tmp_path / "c", progress=False))
+    c = tree_bytes(render_footage(FootageSpec(**SMALL, seed=8), tmp_path / "c", progress=False))
     frames = [k for k in a if k.startswith("frames/")]
     assert all(a[k] != c[k] for k in frames)
     assert a["ground_truth.csv"] == c["ground_truth.csv"]  # the truth does not depend on it

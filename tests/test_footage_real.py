@@ -284,22 +284,28 @@ def test_patchy_pad_covers_the_model_fraction():
     )
 
 
+def _patchy_steady(preset: str, patch_correlation_mm: float) -> FootageSpec:
+    """One noise-free frame of `preset` in steady sliding with patchy real contact, the block
+    wholly in view (256 px wide, clean camera)."""
+    return FootageSpec(
+        preset=preset,
+        real_contact="patchy",
+        patch_correlation_mm=patch_correlation_mm,
+        camera=CameraSettings(**{**CLEAN, "width_px": 256}),
+        noise=False,
+        n_frames=1,
+        dynamics="steady",
+        settle_s=0.004,
+    )
+
+
 @pytest.fixture(scope="module")
 def patchy_ratios():
     """Ground-truth contact ratio (real area / nominal block area in view) of G0 and G7,
     steady state, block wholly in view along the path (20 mm in a 25.6 mm image)."""
     out = {}
     for preset in ("G0", "G7"):
-        spec = FootageSpec(
-            preset=preset,
-            real_contact="patchy",
-            patch_correlation_mm=0.1,
-            camera=CameraSettings(**{**CLEAN, "width_px": 256}),
-            noise=False,
-            n_frames=1,
-            dynamics="steady",
-            settle_s=0.004,
-        )
+        spec = _patchy_steady(preset, patch_correlation_mm=0.1)
         _, img, truth = first(spec)
         total = truth.loc[truth["element"] == -1].iloc[0]
         band_mm2 = 20.0 * spec.camera.height_px * PX  # L x visible width
@@ -420,16 +426,7 @@ def test_patchy_front_edge_touches_more_and_is_darker():
     # With patches of sd 0.05 mm the band's 3 full columns x 12.8 mm hold about
     # 3.8 mm^2 / (4 pi 0.05^2) = 120 independent patches: standard error 0.03 of the mean
     # darkness. Asserted: at least half the model's difference (0.15, 5 standard errors).
-    spec = FootageSpec(
-        preset="G0",
-        real_contact="patchy",
-        patch_correlation_mm=0.05,
-        camera=CameraSettings(**{**CLEAN, "width_px": 256}),
-        noise=False,
-        n_frames=1,
-        dynamics="steady",
-        settle_s=0.004,
-    )
+    spec = _patchy_steady("G0", patch_correlation_mm=0.05)
     _, img, truth = first(spec)
     row = truth.loc[truth["element"] == 0].iloc[0]
     x0, length = row["front_edge_x_mm"], row["contact_length_mm"]

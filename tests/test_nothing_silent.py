@@ -23,41 +23,40 @@ import pandas as pd
 import pytest
 import tifffile
 
-from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from tir_contact._outdir import remove_stale_temporaries, temporary_name
 from tir_contact.analyze import AnalysisOptions, analyze_video
-from tir_contact.cli import main
 from tir_contact.io import open_footage
 
-SMALL = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128)
 FAST = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0, parquet=False)
 QUIET = ["--workers", "1", "--no-plots", "--overlay-frames", "0"]
 
 
 @pytest.fixture(scope="module")
-def clip(tmp_path_factory) -> Path:
+def clip(render_clip, tmp_path_factory) -> Path:
     """A small TIR clip (G3 at 3 m/s, 80 frames) with its ground truth."""
-    folder = tmp_path_factory.mktemp("clips") / "G3"
-    spec = FootageSpec(preset="G3", velocity_mps=3.0, n_frames=80, dynamics="steady",
-                       camera=SMALL)
-    render_footage(spec, folder, fmt="png", progress=False)
-    return folder
+    return render_clip(tmp_path_factory.mktemp("clips") / "G3", n_frames=80)
 
 
-def _stack(clip: Path, folder: Path) -> tuple[Path, np.ndarray]:
-    """The clip's frames as one uncompressed multi-page TIFF beside its meta.json."""
-    folder.mkdir()
-    frames = np.stack([open_footage(clip / "frames").get_frame(i) for i in range(40)])
-    tifffile.imwrite(folder / "clip.tif", frames)
-    meta = json.loads((clip / "meta.json").read_text())
-    meta.pop("frame_pattern", None)
-    (folder / "meta.json").write_text(json.dumps(meta))
-    return folder / "clip.tif", frames
+@pytest.fixture
+def stack(copy_meta):
+    """``stack(clip, folder)``: the clip's first 40 frames as one uncompressed multi-page TIFF
+    beside its meta.json; returns the file and the frames."""
+
+    def write(clip: Path, folder: Path) -> tuple[Path, np.ndarray]:
+        folder.mkdir()
+        frames = np.stack([open_footage(clip / "frames").get_frame(i) for i in range(40)])
+        tifffile.imwrite(folder / "clip.tif", frames)
+        copy_meta(clip, folder, drop=["frame_pattern"])
+        return folder / "clip.tif", frames
+
+    return write
 
 
 @pytest.mark.parametrize("keep", [0.99, 0.6])
-def test_tiff_cut_short_reads_every_intact_frame_and_names_the_lost(clip, tmp_path, keep):
-    path, frames = _stack(clip, tmp_path / "stack")
+def test_tiff_cut_short_reads_every_intact_frame_and_names_the_lost(
+    run_cli, stack, clip, tmp_path, keep
+):
+    path, frames = stack(clip, tmp_path / "stack")
     size = path.stat().st_size
     with open(path, "r+b") as f:
         f.truncate(int(size * keep))
@@ -72,7 +71,7 @@ def test_tiff_cut_short_reads_every_intact_frame_and_names_the_lost(clip, tmp_pa
         for i in (0, intact - 1):
             np.testing.assert_array_equal(reader.get_frame(i), frames[i])  # exact pixels
     out = tmp_path / "out"
-    code = main(["analyze", str(path), "--out", str(out), *QUIET])
+    code = run_cli(["analyze", path, "--out", out, *QUIET])
     assert code == 1  # partial: a batch with lost frames is not ok
     report = pd.read_csv(out / "batch_report.csv")
     assert report.loc[0, "status"] == "partial"
@@ -83,7 +82,7 @@ def test_tiff_cut_short_reads_every_intact_frame_and_names_the_lost(clip, tmp_pa
     assert summary["n_frames_analysed"] == intact
 
 
-def test_gap_in_the_frame_numbers_is_kept(clip, tmp_path):
+def test_gap_in_the_frame_numbers_is_kept(copy_meta, clip, tmp_path):
     gap = tmp_path / "gap"
     gap.mkdir()
     fps = json.loads((clip / "meta.json").read_text())["fps"]
@@ -91,9 +90,7 @@ def test_gap_in_the_frame_numbers_is_kept(clip, tmp_path):
         number = int(f.stem.rsplit("_", 1)[1])
         if not 10 <= number <= 19:
             (gap / f.name).write_bytes(f.read_bytes())
-    meta = json.loads((clip / "meta.json").read_text())
-    meta.pop("frame_pattern", None)
-    (gap / "meta.json").write_text(json.dumps(meta))
+    copy_meta(clip, gap, drop=["frame_pattern"])
     with open_footage(gap) as reader:
         assert reader.frame_numbers[9:11].tolist() == [9, 20]
     res = analyze_video(gap, tmp_path / "out", options=FAST)
@@ -141,11 +138,9 @@ def test_black_or_white_footage_is_warned_about(tmp_path, value, words):
     assert words in done.stderr and "Traceback" not in done.stderr
 
 
-def test_footage_without_contact_is_warned_about(tmp_path):
+def test_footage_without_contact_is_warned_about(render_clip, tmp_path):
     # the block passes the view centre 1 s after the clip: every frame is free ice
-    spec = FootageSpec(preset="G3", velocity_mps=3.0, n_frames=12, dynamics="steady",
-                       camera=SMALL, center_time_s=1.0)
-    folder = render_footage(spec, tmp_path / "free", fmt="png", progress=False)
+    folder = render_clip(tmp_path / "free", n_frames=12, center_time_s=1.0)
     truth = pd.read_csv(folder / "ground_truth.csv")
     assert not truth.in_view.any()
     res = analyze_video(folder, options=FAST)
@@ -178,12 +173,12 @@ def test_stale_temporaries_go_and_live_ones_stay(tmp_path):
     assert live.exists() and all(p.exists() for p in keep)
 
 
-def test_the_next_run_removes_what_a_killed_run_left(clip, tmp_path):
+def test_the_next_run_removes_what_a_killed_run_left(run_cli, clip, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     leftover = out / ".overlay-abcd1234.avi"  # the name an older version gave it
     leftover.write_bytes(b"\0" * 1000)
-    assert main(["analyze", str(clip), "--out", str(out), *QUIET]) == 0
+    assert run_cli(["analyze", clip, "--out", out, *QUIET]) == 0
     assert not leftover.exists()
     assert sorted(p.name for p in out.iterdir()) == ["G3", "batch_report.csv",
                                                       "batch_report.json"]
@@ -260,12 +255,12 @@ def test_workers_die_with_the_batch(tmp_path, method):
     assert not left
 
 
-def test_clip_folder_with_a_broken_meta_json_names_the_json_error(clip, tmp_path):
+def test_clip_folder_with_a_broken_meta_json_names_the_json_error(run_cli, clip, tmp_path):
     broken = tmp_path / "broken"
     shutil.copytree(clip, broken)
     text = (broken / "meta.json").read_text()
     (broken / "meta.json").write_text(text.replace('"fps":', '"fps"', 1))  # a colon lost
     out = tmp_path / "out"
-    assert main(["analyze", str(broken), "--out", str(out), *QUIET]) == 1
+    assert run_cli(["analyze", broken, "--out", out, *QUIET]) == 1
     message = pd.read_csv(out / "batch_report.csv").loc[0, "message"]
     assert message.startswith("meta.json: not valid JSON (Expecting ':' delimiter at line")

@@ -27,7 +27,6 @@ from friction_model.rig import (
     read_run,
 )
 from synthetic.rig import make_raw_run, write_run_csv
-from tir_contact.cli import main
 
 ARRAYS = ("time_s", "velocity_mps", "normal_force_N", "friction_force_N", "temperature_C",
           "humidity_pct")
@@ -57,23 +56,6 @@ def steady_run(path: Path, *, rng: int = 3, mass: float = 12.5) -> Path:
         rng=rng,
         metadata={"specimen": "G3", "condition": "T=-4C", "run": rng,
                   "nominal_area_mm2": 1600.5},
-    )
-    return write_run_csv(df, path)
-
-
-def instationary_run(path: Path) -> Path:
-    df = make_raw_run(
-        lambda v: 0.12 + 0.25 * np.exp(-np.asarray(v) / 1.5),
-        kind="instationary",
-        velocity_mps=3.0,
-        accel_mps2=4.0,
-        decel_mps2=4.0,
-        sample_rate_Hz=4000,
-        normal_force_N=300.0,
-        force_noise_N=1.0,
-        inertial_mass_kg=12.5,
-        rng=5,
-        metadata={"specimen": "G0"},
     )
     return write_run_csv(df, path)
 
@@ -110,8 +92,8 @@ def test_respelled_run_reads_and_evaluates_exactly_alike(tmp_path, delimiter, de
     same_result(evaluate_steady_run(a), evaluate_steady_run(b))
 
 
-def test_instationary_run_with_decimal_commas_evaluates_exactly_alike(tmp_path):
-    dots = instationary_run(tmp_path / "ramp.csv")
+def test_instationary_run_with_decimal_commas_evaluates_exactly_alike(write_ramp_run, tmp_path):
+    dots = write_ramp_run(tmp_path / "ramp.csv")
     semi = tmp_path / "ramp_semi.csv"
     semi.write_text(respell(dots.read_text(), ";", ","), encoding="utf-8")
     a = evaluate_instationary_run(read_run(dots))
@@ -150,7 +132,7 @@ posix_only = pytest.mark.skipif(sys.platform == "win32", reason="POSIX permissio
 
 
 @posix_only
-def test_cli_evaluate_reads_a_semicolon_folder_like_the_comma_folder(tmp_path, capsys):
+def test_cli_evaluate_reads_a_semicolon_folder_like_the_comma_folder(run_cli, tmp_path, capsys):
     dots, semis = tmp_path / "dots", tmp_path / "semis"
     dots.mkdir()
     semis.mkdir()
@@ -160,7 +142,7 @@ def test_cli_evaluate_reads_a_semicolon_folder_like_the_comma_folder(tmp_path, c
     saved = os.umask(0o022)
     try:
         for folder in (dots, semis):
-            code = main(["evaluate", str(folder), "--out", str(tmp_path / f"out_{folder.name}"),
+            code = run_cli(["evaluate", folder, "--out", tmp_path / f"out_{folder.name}",
                          "--no-plots", "--no-progress"])
             assert code == 0
     finally:

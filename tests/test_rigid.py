@@ -269,6 +269,29 @@ def test_sdof_static_deflection_is_the_moment_balance_of_eq_5_8():
     assert expected > 0.01  # a real deflection, not a trivial zero
 
 
+def _swing(params, initial_rates_rad_s, solver, **options):
+    """Elements started at `initial_rates_rad_s` on a block at rest (preload 5.7 mm, no ground
+    friction), 2 ms; returns the result and the total energy (kinetic, springs, gravity,
+    penalties) at each output step. `options` go to :func:`simulate_block_dynamics`."""
+    y0 = 5.7e-3
+    res = simulate_block_dynamics(
+        params,
+        velocity=0.0,
+        preload=y0,
+        friction=ConstantLaw(0.0),
+        t_end_s=0.002,
+        initial_rates_rad_s=initial_rates_rad_s,
+        solver=solver,
+        output_step_s=1e-5,
+        **options,
+    )
+    phi, dphi = res.fields["phi_rad"], res.fields["dphi_rad_s"]
+    energy = eom.energy(
+        params.chain_model(), phi, dphi, np.full(phi.shape[:2], y0), np.ones(len(phi))
+    )
+    return res, energy
+
+
 @pytest.mark.parametrize("contact_model", ["edge", "face"])
 def test_energy_is_conserved_without_damping_and_friction(contact_model):
     # Truth: with no dampers and no friction, kinetic + spring + gravity + penalty energies
@@ -281,22 +304,15 @@ def test_energy_is_conserved_without_damping_and_friction(contact_model):
         contact_model=contact_model,
         damping_constants_Nms_rad=0.0,
     )
-    y0 = 5.7e-3
-    res = simulate_block_dynamics(
+    res, energy = _swing(
         params,
-        velocity=0.0,
-        preload=y0,
-        friction=ConstantLaw(0.0),
-        t_end_s=0.002,
-        initial_rates_rad_s=[[400.0, 600.0], [-300.0, -300.0], [-100.0, 50.0]],
-        solver=SolverOptions(rtol=1e-10, atol=1e-12),
-        output_step_s=1e-5,
+        [[400.0, 600.0], [-300.0, -300.0], [-100.0, 50.0]],
+        SolverOptions(rtol=1e-10, atol=1e-12),
     )
     assert res.data["sipe_force_N"].max() > 10.0  # the neighbours did collide
     assert res.data["contact"].mean() > 0.5  # ground contact, with lift-off of the edges
     phi, dphi = res.fields["phi_rad"], res.fields["dphi_rad_s"]
     chain = params.chain_model()
-    energy = eom.energy(chain, phi, dphi, np.full(phi.shape[:2], y0), np.ones(len(phi)))
     # the kinetic energy checked independently from the centres of mass of the bars
     m_bar = params.density_kg_m3 * 0.08 * L_G3 * H / 2
     d = H / 2
@@ -318,21 +334,11 @@ def test_sipe_friction_only_dissipates():
     params = BlockParams(
         n_elements=2, element_length_m=L_G3, sipe_width_m=0.05e-3, damping_constants_Nms_rad=0.0
     )
-    y0 = 5.7e-3
-    res = simulate_block_dynamics(
+    res, energy = _swing(
         params,
-        velocity=0.0,
-        preload=y0,
-        friction=ConstantLaw(0.0),
+        [[400.0, 600.0], [-300.0, -300.0]],
+        SolverOptions(rtol=1e-8, atol=1e-11),
         sipe_friction=ConstantLaw(0.8),
-        t_end_s=0.002,
-        initial_rates_rad_s=[[400.0, 600.0], [-300.0, -300.0]],
-        solver=SolverOptions(rtol=1e-8, atol=1e-11),
-        output_step_s=1e-5,
-    )
-    phi, dphi = res.fields["phi_rad"], res.fields["dphi_rad_s"]
-    energy = eom.energy(
-        params.chain_model(), phi, dphi, np.full(phi.shape[:2], y0), np.ones(len(phi))
     )
     assert res.data["sipe_friction_N"].max() > 1.0
     assert np.all(np.diff(energy) <= 1e-7 * energy[0])
