@@ -12,9 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from friction_model.contact.laws import ExponentialLaw
-from friction_model.dynamics import velocity_ramp
 from friction_model.dynamics.rigid import BlockParams
-from friction_model.dynamics.timoshenko import simulate_timoshenko
 
 #: Where the examples write: ``examples/out/NAME``.
 OUT_ROOT = Path(__file__).parent / "out"
@@ -86,24 +84,3 @@ def face_contact_block() -> tuple[BlockParams, ExponentialLaw]:
     return params, ExponentialLaw(a1=0.2, a2=0.15, a3=-0.3)
 
 
-def limit_cycle_run(params, friction, normal_force_N: float, v0_mps: float, t_end_s: float,
-                    window_s: float):
-    """Run a Timoshenko element from rest up to `v0_mps` (10 ms ramp) for `t_end_s` at 5 us
-    output steps, the normal force applied (the stick-slip examples).
-
-    Returns
-    -------
-    res : friction_model.dynamics.timoshenko result
-        The whole run.
-    window : pandas.DataFrame
-        The rows of ``res.data`` after ``t_end_s - window_s`` (the limit cycle).
-    """
-    res = simulate_timoshenko(
-        params,
-        velocity=velocity_ramp(0.0, v0_mps, 0.0, 0.01),
-        normal_force=normal_force_N,
-        friction=friction,
-        t_end_s=t_end_s,
-        n_output=int(t_end_s * 2e5) + 1,  # 5 us samples
-    )
-    return res, res.data[res.data["time_s"] > t_end_s - window_s]

@@ -21,11 +21,11 @@ from dataclasses import replace
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _common import limit_cycle_run, output_folder, save_figure
+from _common import output_folder, save_figure
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import REFERENCE_COMPOUND
-from friction_model.dynamics.stick_slip import loaded_mode_at_own_modulus_Hz
+from friction_model.dynamics.stick_slip import limit_cycle_run, loaded_mode_at_own_modulus_Hz
 from friction_model.dynamics.timoshenko import TimoshenkoParams
 
 F_THESIS_HZ = 1111.0

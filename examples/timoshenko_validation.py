@@ -32,7 +32,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from _common import limit_cycle_run, output_folder, save_figure
+from _common import output_folder, save_figure
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import (
@@ -43,7 +43,7 @@ from friction_model.compound import (
     steady_beam_column,
 )
 from friction_model.dynamics import predict_stick_slip, velocity_ramp
-from friction_model.dynamics.stick_slip import loaded_mode_at_own_modulus_Hz
+from friction_model.dynamics.stick_slip import limit_cycle_run, loaded_mode_at_own_modulus_Hz
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,
     buckling_load,

@@ -23,6 +23,7 @@ from functools import lru_cache
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import scipy.linalg
 
 from friction_model.compound import REFERENCE_COMPOUND, Compound
@@ -38,6 +39,7 @@ __all__ = [
     "K4_INTERVAL_S_PER_M",
     "PREDICTED_EXTRA_MODULUS_HZ",
     "PREDICTED_STICK_SLIP_HZ",
+    "limit_cycle_run",
     "loaded_first_frequency_Hz",
     "loaded_mode_at_own_modulus_Hz",
     "predict_stick_slip",
@@ -124,6 +126,47 @@ def loaded_mode_at_own_modulus_Hz(params: Any, normal_force_N: float,
     return f
 
 
+def limit_cycle_run(
+    params: TimoshenkoParams,
+    friction: Any,
+    normal_force_N: float,
+    v0_mps: float,
+    t_end_s: float,
+    window_s: float,
+) -> tuple[Any, pd.DataFrame]:
+    """Run a Timoshenko element from rest up to `v0_mps` (a 10 ms ramp) under a constant
+    normal force, and keep the last `window_s` of it (the limit cycle of Fig. 5.16).
+
+    Parameters
+    ----------
+    params : TimoshenkoParams
+    friction : friction law
+        mu(v) of the contact (e.g. :func:`table_4_6_eq_5_24`).
+    normal_force_N : float
+        Constant normal force, N.
+    v0_mps : float
+        Carrier speed after the ramp, m/s.
+    t_end_s, window_s : float
+        Simulated time and the final window kept, s (output every 5 us).
+
+    Returns
+    -------
+    result : SimulationResult
+        The whole run (:func:`~friction_model.dynamics.timoshenko.simulate_timoshenko`).
+    window : pandas.DataFrame
+        The rows of ``result.data`` after ``t_end_s - window_s``.
+    """
+    res = simulate_timoshenko(
+        params,
+        velocity=velocity_ramp(0.0, v0_mps, 0.0, 0.01),
+        normal_force=normal_force_N,
+        friction=friction,
+        t_end_s=t_end_s,
+        n_output=int(t_end_s * 2e5) + 1,  # 5 us samples
+    )
+    return res, res.data[res.data["time_s"] > t_end_s - window_s]
+
+
 def predict_stick_slip(
     *,
     k4_s_per_m: float = K4_CENTRAL_S_PER_M,
@@ -167,15 +210,8 @@ def predict_stick_slip(
     E = modulus(f)
     k_i = compound.kelvin_voigt_s(f)
     p = replace(base, E_Pa=E, kelvin_voigt_s=k_i)
-    res = simulate_timoshenko(
-        p,
-        velocity=velocity_ramp(0.0, _V0_MPS, 0.0, 0.01),
-        normal_force=N,
-        friction=table_4_6_eq_5_24(float(k4_s_per_m)),
-        t_end_s=t_end_s,
-        n_output=int(t_end_s * 2e5) + 1,
-    )
-    d = res.data[res.data["time_s"] > t_end_s - window_s]
+    _, d = limit_cycle_run(p, table_4_6_eq_5_24(float(k4_s_per_m)), N, _V0_MPS, t_end_s,
+                           window_s)
     t, x = d["time_s"].to_numpy(), d["tip_deflection_mm"].to_numpy()
     xc = x - x.mean()
     i = np.flatnonzero((xc[:-1] < 0) & (xc[1:] >= 0))
