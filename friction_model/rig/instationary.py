@@ -199,10 +199,9 @@ def instationary_characteristic(
         velocity_mps=velocity_mps,
         friction_force_N=friction_force_N,
         normal_force_N=normal_force_N,
+        at_least=2,
     )
     check_nonnegative("inertial_mass_kg", inertial_mass_kg)
-    if t.shape[0] < 2:
-        raise ValueError(f"need at least 2 samples, got {t.shape[0]}")
     params = InstationaryParams(
         bin_width_mps=bin_width_mps,
         smoothing_s=smoothing_s,

@@ -157,9 +157,7 @@ def find_constant_velocity_window(
         When no constant-velocity phase of at least ``min_duration_s`` exists, or for bad
         parameters or arrays.
     """
-    t, v = _signals(time_s=time_s, velocity_mps=velocity_mps)
-    if t.shape[0] < 2:
-        raise ValueError(f"need at least 2 samples, got {t.shape[0]}")
+    t, v = _signals(time_s=time_s, velocity_mps=velocity_mps, at_least=2)
     params = WindowParams(
         smoothing_s=smoothing_s,
         rel_tol=rel_tol,

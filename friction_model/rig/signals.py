@@ -71,12 +71,16 @@ def _as_1d(name: str, values: Any) -> np.ndarray:
     return arr
 
 
-def _signals(**values: Any) -> tuple[np.ndarray, ...]:
-    """The named signals as 1-D float arrays of one length, else ValueError naming them."""
+def _signals(*, at_least: int = 0, **values: Any) -> tuple[np.ndarray, ...]:
+    """The named signals as 1-D float arrays of one length (at least `at_least` samples),
+    else ValueError naming them."""
     arrays = {name: _as_1d(name, v) for name, v in values.items()}
     lengths = {name: a.shape[0] for name, a in arrays.items()}
     if len(set(lengths.values())) > 1:
         raise ValueError(f"arrays must have equal lengths, got {lengths}")
+    n = next(iter(lengths.values()), 0)
+    if n < at_least:
+        raise ValueError(f"need at least {at_least} samples, got {n}")
     return tuple(arrays.values())
 
 
