@@ -1275,11 +1275,26 @@ class _Clip:
                 n_scratches=cam.n_scratches,
                 groove_depth=cam.groove_depth,
             )
-            if self.lit.shape == "full":
-                self.base = (level * illum * ice * dust).astype(np.float32)
-            else:
-                self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
+            # the factor is exactly 1 everywhere for a fully lit frame
+            self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
         self.lateral = self.path.lateral_coverage()
+        self._lit_grid = self._lit_strip_grid()
+
+    def _lit_strip_grid(self) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+        """What :meth:`_lit_area` needs of the clip, fixed for all frames: the lateral
+        coverage of the lit pixels and, on a rotated path, each pixel's mid-row segment in
+        path coordinates (start and end)."""
+        lat_lit = self.lateral.astype(np.float64) * self.lit.mask
+        path, px = self.path, self.path.mm_per_px
+        if path.rotation_rad == 0.0:
+            return lat_lit.sum(axis=0), None, None
+        h, w = lat_lit.shape
+        c, s = math.cos(path.rotation_rad), math.sin(path.rotation_rad)
+        xc, yc = path.centre
+        xs = np.arange(w, dtype=np.float64) * px
+        ys = (np.arange(h, dtype=np.float64) + 0.5) * px
+        ua = xc + (xs[None, :] - xc) * c + (ys[:, None] - yc) * s
+        return lat_lit, ua, ua + px * c
 
     def _init_side_background(
         self, level: np.float32, illum: np.ndarray, dust: np.ndarray, scene_rng: np.random.Generator
@@ -1563,20 +1578,13 @@ class _Clip:
         if hi - lo <= 0:
             return 0.0
         path, px = self.path, self.path.mm_per_px
-        if not hasattr(self, "_lat_lit"):
-            self._lat_lit = self.lateral.astype(np.float64) * self.lit.mask
-        h, w = self._lat_lit.shape
-        if path.rotation_rad == 0.0:
-            cov = interval_coverage(lo, hi, w, px)
-            return float(px * px * np.dot(self._lat_lit.sum(axis=0), cov))
-        c, s = math.cos(path.rotation_rad), math.sin(path.rotation_rad)
-        xc, yc = path.centre
-        xs = np.arange(w, dtype=np.float64) * px
-        ys = (np.arange(h, dtype=np.float64) + 0.5) * px
-        ua = xc + (xs[None, :] - xc) * c + (ys[:, None] - yc) * s
-        ub = ua + px * c
+        lat_lit, ua, ub = self._lit_grid
+        if ua is None:
+            cov = interval_coverage(lo, hi, lat_lit.shape[0], px)
+            return float(px * px * np.dot(lat_lit, cov))
+        c = math.cos(path.rotation_rad)
         cov = np.clip(np.minimum(ub, hi) - np.maximum(ua, lo), 0.0, None) / (px * c)
-        return float(px * px * np.sum(self._lat_lit * cov))
+        return float(px * px * np.sum(lat_lit * cov))
 
     def _real_truth(
         self,
@@ -1778,15 +1786,12 @@ def iter_frames(spec: FootageSpec) -> Iterator[tuple[int, np.ndarray, pd.DataFra
     """
     if not isinstance(spec, FootageSpec):
         raise TypeError(f"spec must be a FootageSpec, got {type(spec).__name__}")
-    for k, img, table, _ in _iter_encoded(spec):
+    for k, img, table, _ in _iter_encoded(_Clip(spec)):
         yield k, img, table
 
 
-def _iter_encoded(
-    spec: FootageSpec,
-) -> Iterator[tuple[int, np.ndarray, pd.DataFrame, bytes | None]]:
-    clip = _Clip(spec)
-    for k in range(spec.n_frames):
+def _iter_encoded(clip: _Clip) -> Iterator[tuple[int, np.ndarray, pd.DataFrame, bytes | None]]:
+    for k in range(clip.spec.n_frames):
         img, table, encoded = clip.image(k)
         yield k, img, table, encoded
 
@@ -1854,10 +1859,11 @@ def render_footage(
     bar = progress_bar(spec.n_frames, progress=progress, unit="frame", desc="footage", leave=False)
     truth_path = out / "ground_truth.csv"
     columns = spec.truth_columns
+    clip = _Clip(spec)
     try:
         with open(truth_path, "w", newline="", encoding="utf-8") as fh:
             fh.write(",".join(columns) + "\n")
-            for k, img, table, encoded in _iter_encoded(spec):
+            for k, img, table, encoded in _iter_encoded(clip):
                 sink.write(k, img, encoded=encoded)
                 _write_rows(fh, table, columns)
                 bar.update(1)
@@ -1867,7 +1873,7 @@ def render_footage(
     extra: dict[str, Any] = {}
     if spec.uses_real_footage_fields:
         extra = (
-            _write_lit_mask(out, spec)
+            _write_lit_mask(out, spec, clip.lit)
             if spec.view == "tir"
             else {"jpeg_quality": spec.camera.jpeg_quality}
         )
@@ -1887,9 +1893,9 @@ def _fmt(v: Any) -> str:
     return f"{f:.9g}"
 
 
-def _write_lit_mask(out: Path, spec: FootageSpec) -> dict[str, Any]:
-    """Write ``lit_mask.png``; return the ``meta.json`` entries of the real-footage fields."""
-    zone = lit_zone(spec)
+def _write_lit_mask(out: Path, spec: FootageSpec, zone: LitZone) -> dict[str, Any]:
+    """Write ``lit_mask.png`` of the clip's lit `zone`; return the ``meta.json`` entries of
+    the real-footage fields."""
     path = out / "lit_mask.png"
     if not cv2.imwrite(str(path), zone.mask.astype(np.uint8) * 255):
         raise OSError(f"could not write {path}")
