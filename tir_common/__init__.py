@@ -20,7 +20,6 @@ from tir_common.progress import progress_bar, show_progress
 from tir_common.schema import Field, FieldError, Schema
 from tir_common.validate import (
     ParameterTypeError,
-    check_in_range,
     check_nonnegative,
     check_number,
     check_positive,
@@ -34,7 +33,6 @@ __all__ = [
     "ParameterTypeError",
     "Schema",
     "atomic_write",
-    "check_in_range",
     "check_nonnegative",
     "check_number",
     "check_positive",

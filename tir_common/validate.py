@@ -19,7 +19,6 @@ import numpy as np
 
 __all__ = [
     "ParameterTypeError",
-    "check_in_range",
     "check_nonnegative",
     "check_number",
     "check_positive",
@@ -123,8 +122,6 @@ def check_range(name: str, value: object, low: float, high: float, *, unit: str 
     """:func:`check_number` with ``low <= value <= high``."""
     return check_number(name, value, low=low, high=high, unit=unit)
 
-
-check_in_range = check_range
 
 
 def check_real(name: str, value: object, *, rule: str = "finite") -> float:

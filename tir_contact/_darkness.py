@@ -16,7 +16,7 @@ import math
 import cv2
 import numpy as np
 
-from tir_contact.flatfield import Reference, reference_from_frame
+from tir_contact.flatfield import Reference
 
 __all__ = ["BoxDarkness", "Normaliser", "RawContactTest"]
 
@@ -37,12 +37,6 @@ class Normaliser:
         sign = -1.0 if contact_is == "dark" else 1.0
         self.scale = (sign * inv).astype(np.float32)
         self.offset = (-sign * reference.valid).astype(np.float32)
-
-    @classmethod
-    def own_background(cls, frame: np.ndarray, contact_is: str, size_px: int) -> Normaliser:
-        """Normaliser against the frame's own background (no clean reference)."""
-        return cls(reference_from_frame(frame, contact_is=contact_is, size_px=size_px),
-                   contact_is)
 
     def __call__(self, frame: np.ndarray) -> np.ndarray:
         d = frame.astype(np.float32)

@@ -58,9 +58,11 @@ class Command:
     help: str
     data_errors: tuple[type[BaseException], ...] = ()
 
-    def module(self, name: str) -> ModuleType:
-        """The command's module."""
-        return importlib.import_module(f"tir_contact.commands.{name}")
+
+
+def _command_module(name: str) -> ModuleType:
+    """The module of the sub-command `name` (imported only when the command is given)."""
+    return importlib.import_module(f"tir_contact.commands.{name}")
 
 
 #: The sub-commands in the order of ``tir-contact --help``.
@@ -122,7 +124,7 @@ def build_parser(commands: Collection[str] | None = None) -> argparse.ArgumentPa
         if commands is not None and name not in commands:
             sub.add_parser(name, help=command.help)
             continue
-        module = command.module(name)
+        module = _command_module(name)
         leaf = sub.add_parser(name, help=command.help, description=module.DESCRIPTION)
         module.add_arguments(leaf)
         leaf.set_defaults(func=module.run)

@@ -126,10 +126,14 @@ class FrameAnalyser:
     def __init__(self, setup: VideoSetup, options: AnalysisOptions, *, fast: bool = True) -> None:
         self.setup = setup
         self.options = options
-        self.normalise = (
-            Normaliser(setup.reference, setup.contact_is) if setup.reference else None
+        tir = setup.view == "tir"
+        self.normalise = (Normaliser(setup.reference, setup.contact_is)
+                          if tir and setup.reference is not None else None)
+        # side view: the ice line of the (levelled) reference, fixed for the video
+        self.ice_y_px: float | None = (
+            ice_line_y_px(setup.reference.image, contact_is=setup.contact_is)
+            if not tir and setup.reference is not None else None
         )
-        self.ice_y_px: float | None = None
         rim = setup.tir.lit.rim if setup.tir is not None else None
         self._rim = rim if rim is not None and rim.any() else None
         self.want_regions = options.regions == "always" or (
@@ -141,9 +145,7 @@ class FrameAnalyser:
         self._raw_tests: dict[str, RawContactTest | None] = {}  # by dtype character
         self._raw_buf: np.ndarray | None = None
         self._box = (
-            BoxDarkness(self.normalise, setup.shape)
-            if self.normalise is not None and setup.view == "tir"
-            else None
+            BoxDarkness(self.normalise, setup.shape) if self.normalise is not None else None
         )
 
     def __call__(self, k: int, frame: np.ndarray) -> FrameResult:
@@ -214,8 +216,8 @@ class FrameAnalyser:
     def _at_rim(self, contact: FrameContact) -> np.ndarray:
         """Which regions (index = label, 0 unused) touch the rim of the lit zone."""
         out = np.zeros(contact.n_regions + 1, bool)
-        if self._rim is not None and contact.box is not None:
-            out[np.unique(contact.box_labels[self._rim[contact.box]])] = True
+        if contact.box is not None:
+            out[contact.box_labels[self._rim[contact.box]]] = True
             out[0] = False
         return out
 
@@ -227,11 +229,10 @@ class FrameAnalyser:
         t = k / s.fps
         if s.level_deg:  # the ice line along the rows: angles against the ice's normal
             frame = level_image(frame, s.level_deg)
-            frame = np.where(s.level_valid, frame, np.median(frame))
+            if s.reference is None:  # a reference excludes the corners the turn brought in
+                frame = np.where(s.level_valid, frame, np.median(frame))
         d = side_darkness(frame, contact_is=s.contact_is, reference=s.reference)
         valid = s.reference.valid if s.reference is not None else s.level_valid
-        if self.ice_y_px is None and s.reference is not None:
-            self.ice_y_px = ice_line_y_px(s.reference.image, contact_is=s.contact_is)
         feats = side_frame_features(d, s.layout, valid=valid, ice_y_px=self.ice_y_px)
         row = {"frame": k, "time_s": t, **feats.frame}
         row["block_fully_in_view"] = bool(row.get("block_in_view")) and fully_in_view(

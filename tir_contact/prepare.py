@@ -25,6 +25,7 @@ from tir_contact.illumination import lit_zone_from_file
 from tir_contact.meta import META_FILENAME, clip_footage, find_meta, load_meta, read_meta_json
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
+from tir_contact.segment import estimate_contrast
 from tir_contact.side import ice_line_tilt_deg, ice_line_y_px, level_image
 
 __all__ = [
@@ -365,12 +366,10 @@ def _contrast(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     norm = Normaliser(tref.reference, contact_is)
     sure = np.maximum(np.float32(options.min_darkness), np.float32(options.noise_sigmas)
                       * tref.noise.sigma_darkness(tref.reference.image))[::2, ::2]
-    values = []
     every_other = (slice(None, None, 2), slice(None, None, 2))
-    for f in samples:  # every other row and column: a median needs no more
-        d = norm.region(f, *every_other)
-        dark = d[d > sure]
-        values.append(float(np.median(dark)) if dark.size else math.nan)
+    # every other row and column: a median needs no more
+    values = [estimate_contrast(norm.region(f, *every_other), min_darkness=sure)
+              for f in samples]
     finite = [v for v in values if np.isfinite(v)]
     return float(np.median(finite)) if finite else None
 

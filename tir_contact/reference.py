@@ -411,8 +411,6 @@ class TirReference:
         How the free surface was made, in words (for ``summary.json``).
     noise : NoiseModel
         Grey-value noise of the free surface.
-    candidates : (M, N) ndarray of bool
-        Contact the free-surface estimate went around (``"follows"``), else all False.
     """
 
     reference: Reference
@@ -420,7 +418,6 @@ class TirReference:
     camera: str
     method: str
     noise: NoiseModel
-    candidates: np.ndarray
 
 
 def _median(frames: list[np.ndarray]) -> np.ndarray:
@@ -566,7 +563,7 @@ def tir_reference(
     away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
     noise = noise_model(_residuals(frames, free), free, away)
     ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))
-    return TirReference(ref, lit, mode, method, noise, cand)
+    return TirReference(ref, lit, mode, method, noise)
 
 
 def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0) -> TirReference:

@@ -29,16 +29,17 @@ __all__ = [
 ]
 
 
-def estimate_contrast(d: np.ndarray, *, min_darkness: float = 0.25) -> float:
+def estimate_contrast(d: np.ndarray, *, min_darkness: float | np.ndarray = 0.25) -> float:
     """Contact contrast of a frame: the median darkness of pixels darker than ``min_darkness``.
 
     Parameters
     ----------
     d : (M, N) ndarray of float
         Darkness (NaN for excluded pixels).
-    min_darkness : float
+    min_darkness : float or (M, N) ndarray
         Darkness above which a pixel is surely contact, not noise (0.25 is well above the
-        free-surface noise of a TIR image and well below the contact contrast).
+        free-surface noise of a TIR image and well below the contact contrast); per pixel
+        where the noise varies over the image.
 
     Returns
     -------
