@@ -280,13 +280,8 @@ def write_parameters(
         **json_safe(dict(provenance or {})),
     }
     doc: dict[str, Any] = {"schema": SCHEMA, "schema_version": SCHEMA_VERSION, "provenance": prov}
-    for name, section in (
-        ("geometry", geometry),
-        ("contact", contact),
-        ("lever_arm", lever_arm),
-        ("friction_law", friction_law),
-        ("element", element),
-    ):
+    for name, section in zip(SECTIONS, (geometry, contact, lever_arm, friction_law, element),
+                             strict=True):
         if section is not None:
             doc[name] = {k: v for k, v in json_safe(dict(section)).items() if v is not None}
     _validate(path, doc)

@@ -677,6 +677,9 @@ class FitResult:
     absolute_sigma : bool
         Whether ``sigma`` was taken as absolute 1-sigma errors (cov not rescaled) or the
         covariance was scaled by the reduced chi-square.
+    chi2 : float
+        Weighted residual sum of squares, ``sum(((mu - law(v)) / sigma)^2)`` (``sigma`` = 1
+        when not given): the RSS of an information criterion.
     """
 
     law: FrictionLaw
@@ -688,6 +691,7 @@ class FitResult:
     dof: int
     fixed: tuple[str, ...] = ()
     absolute_sigma: bool = False
+    chi2: float = math.nan
 
     def to_frame(self) -> pd.DataFrame:
         """Tidy table of the parameters.
@@ -1025,6 +1029,7 @@ def _fit_result(
         dof=dof,
         fixed=tuple(k for k in law_cls.param_names if k in fp.fixed_vals),
         absolute_sigma=absolute,
+        chi2=chi2,
     )
 
 

@@ -51,7 +51,7 @@ from friction_model.identification.identify import (
     read_characteristic,
 )
 from friction_model.model_selection import aicc_rss
-from friction_model.params_file import ParameterFileError, write_parameters
+from friction_model.params_file import SECTIONS, ParameterFileError, write_parameters
 
 __all__ = [
     "AUTO_LAWS",
@@ -74,7 +74,7 @@ _DEFAULT_LAW_PARAMS: dict[str, dict[str, float]] = {
     "ArctanExponentialLaw": {"k1": 0.1, "k2": 0.1, "k3": -0.5, "k4": 100.0},
 }
 #: Sections of the parameter file, in the order of the summary.
-_RESULT_SECTIONS = ("contact", "lever_arm", "friction_law", "element")
+_RESULT_SECTIONS = tuple(s for s in SECTIONS if s != "geometry")
 
 
 @dataclass(frozen=True)
@@ -259,9 +259,7 @@ def choose_friction_law(
             if name != "auto":
                 raise ValueError(f"{steady.name}: fitting {cand} failed: {exc}") from None
             continue
-        resid = steady.mu - np.asarray(fit.law(steady.velocity_mps))
-        w = 1.0 if steady.sigma is None else 1.0 / np.asarray(steady.sigma)
-        score = aicc_rss(float(np.sum((resid * w) ** 2)), len(cls.param_names), steady.mu.size)
+        score = aicc_rss(fit.chi2, len(cls.param_names), fit.n_points)
         if best is None or score < best[0]:
             best = (score, fit)
     if best is None:
@@ -394,10 +392,11 @@ def _gather(
         if _has_contact(frames, elements, meta):
             _gather_contact(res, geometry, opts, got)
         _gather_side_view(res, geometry, opts, got)
+    if transient and opts.pressure_bar is None:  # before any table is read
+        raise ValueError(f"{transient[0]}: a pressure (pressure_bar) is needed for a transient "
+                         "table")
     for path in transient:
         table = read_transient_table(path)  # any CSV dialect; errors name file, column, row
-        if opts.pressure_bar is None:
-            raise ValueError(f"{path}: a pressure (pressure_bar) is needed for a transient table")
         got.series.append(
             DeflectionSeries(
                 time_s=table["time_s"].to_numpy(float),
