@@ -361,22 +361,12 @@ class CameraSettings:
         )
         put("shot_noise", _flag("shot_noise", self.shot_noise))
         put("rotation_deg", check_number("rotation_deg", self.rotation_deg, low=-45.0, high=45.0))
-        g = check_number("illumination_gradient", self.illumination_gradient, low=0.0, high=1.0)
-        if g >= 1.0:
-            raise ValueError(
-                f"illumination_gradient must lie in [0, 1), got illumination_gradient={g!r}"
-            )
-        put("illumination_gradient", g)
-        vg = check_number("vignetting", self.vignetting, low=0.0, high=1.0)
-        if vg >= 1.0:
-            raise ValueError(f"vignetting must lie in [0, 1), got vignetting={vg!r}")
-        put("vignetting", vg)
+        for name in ("illumination_gradient", "vignetting"):
+            put(name, check_number(name, getattr(self, name), low=0.0, high=1.0, high_open=True))
         for name in ("n_bubbles", "n_scratches", "n_dust"):
             put(name, _integer(name, getattr(self, name), 0, 10000))
-        gd = check_number("groove_depth", self.groove_depth, low=0.0, high=1.0)
-        if gd >= 1.0:
-            raise ValueError(f"groove_depth must lie in [0, 1), got groove_depth={gd!r}")
-        put("groove_depth", gd)
+        put("groove_depth",
+            check_number("groove_depth", self.groove_depth, low=0.0, high=1.0, high_open=True))
         self._check_real_footage(put)
 
     def _check_real_footage(self, put: Any) -> None:
@@ -399,10 +389,8 @@ class CameraSettings:
                 check_number("lit_center_mm[1]", centre[1]),
             ),
         )
-        out = check_number("outside_level", self.outside_level, low=0.0, high=1.0)
-        if out >= 1.0:
-            raise ValueError(f"outside_level must lie in [0, 1), got outside_level={out!r}")
-        put("outside_level", out)
+        put("outside_level",
+            check_number("outside_level", self.outside_level, low=0.0, high=1.0, high_open=True))
         if self.jpeg_quality is not None:
             put("jpeg_quality", _integer("jpeg_quality", self.jpeg_quality, 1, 100))
             if self.bit_depth != 8:

@@ -55,6 +55,7 @@ def check_number(
     low: float | None = None,
     high: float | None = None,
     low_open: bool = False,
+    high_open: bool = False,
     unit: str = "",
 ) -> float:
     """Return ``value`` as a finite float within its bounds, else raise with a clear message.
@@ -66,7 +67,8 @@ def check_number(
     value : object
         A real number (Python or numpy scalar, 0-d array); ``bool`` and strings are refused.
     low, high : float, optional
-        Inclusive bounds; ``low_open=True`` makes the lower bound exclusive (``> low``).
+        Inclusive bounds; ``low_open=True`` makes the lower bound exclusive (``> low``),
+        ``high_open=True`` the upper one (``< high``).
     unit : str
         Unit written after the bounds in the message.
 
@@ -89,20 +91,24 @@ def check_number(
     Traceback (most recent call last):
     ...
     ValueError: gap_m must be a finite number > 0, got gap_m=0.0
+    >>> check_number("vignetting", 1.0, low=0, high=1, high_open=True)
+    Traceback (most recent call last):
+    ...
+    ValueError: vignetting must lie in [0, 1), got vignetting=1.0
     """
     x = _as_real(name, value)
     below = low is not None and (x <= low if low_open else x < low)
-    above = high is not None and x > high
+    above = high is not None and (x >= high if high_open else x > high)
     if math.isfinite(x) and not below and not above:
         return x
     u = f" {unit}" if unit else ""
     if low is not None and high is not None:
-        left = "(" if low_open else "["
-        rule = f"lie in {left}{low:g}, {high:g}]{u}"
+        left, right = "(" if low_open else "[", ")" if high_open else "]"
+        rule = f"lie in {left}{low:g}, {high:g}{right}{u}"
     elif low is not None:
         rule = f"be a finite number {'>' if low_open else '>='} {low:g}{u}"
     elif high is not None:
-        rule = f"be a finite number <= {high:g}{u}"
+        rule = f"be a finite number {'<' if high_open else '<='} {high:g}{u}"
     else:
         rule = "be finite"
     raise ValueError(f"{name} must {rule}, got {name}={x!r}")

@@ -39,6 +39,7 @@ from scipy.optimize import least_squares
 from friction_model._fitting import covariance_with_stderr
 from friction_model._table_io import read_table
 from friction_model.geometry import BlockGeometry
+from tir_common.validate import check_number, check_positive
 
 logger = logging.getLogger(__name__)
 
@@ -237,10 +238,10 @@ def contact_from_pipeline(
     etab, esrc = _as_table("elements", elements)
     _require(ftab, REQUIRED_FRAME_COLUMNS, fsrc)
     _require(etab, REQUIRED_ELEMENT_COLUMNS, esrc)
-    if not 0.0 <= area_tolerance < 1.0:
-        raise ValueError(f"area_tolerance must lie in [0, 1), got {area_tolerance=}")
-    if normal_force_N is not None and not (math.isfinite(normal_force_N) and normal_force_N > 0):
-        raise ValueError(f"normal_force_N must be a finite number > 0, got {normal_force_N=}")
+    area_tolerance = check_number("area_tolerance", area_tolerance, low=0.0, high=1.0,
+                                  high_open=True)
+    if normal_force_N is not None:
+        check_positive("normal_force_N", normal_force_N)
     lengths = geometry.element_lengths
     wide, el = _whole_block_frames(ftab, etab, geometry, image_width_mm, fsrc)
     wide = _drop_partly_outside(wide, ftab, area_tolerance)
