@@ -10,6 +10,7 @@ import json
 import shutil
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pandas as pd
 import pytest
@@ -149,18 +150,12 @@ def _broken_tree(root: Path, good: Path, copy_meta) -> dict[str, str]:
     mixed = root / "mixed"
     shutil.copytree(good / "frames", mixed)
     shutil.copy(good / "meta.json", mixed / "meta.json")
-    import cv2
-
     cv2.imwrite(str(sorted(mixed.glob("*.png"))[10]), np.zeros((10, 10), np.uint8))
     # meta.json that is not JSON, and one with a wrong type
-    for name, text in (("notjson", "{fps: 4000"), ("wrongtype", None)):
-        d = root / name
-        shutil.copytree(good / "frames", d)
-        if text is None:
-            meta = json.loads((good / "meta.json").read_text())
-            meta["fps"] = "fast"
-            text = json.dumps(meta)
-        (d / "meta.json").write_text(text)
+    shutil.copytree(good / "frames", root / "notjson")
+    (root / "notjson" / "meta.json").write_text("{fps: 4000")
+    shutil.copytree(good / "frames", root / "wrongtype")
+    copy_meta(good, root / "wrongtype", fps="fast")
     # a video with zero frames
     zero = root / "zero"
     zero.mkdir()

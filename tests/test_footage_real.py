@@ -314,17 +314,17 @@ def patchy_ratios():
 
 
 def test_patchy_contact_ratio_follows_the_model_and_falls_from_g0_to_g7(patchy_ratios):
-    for spec, ratio, total, _ in patchy_ratios.values():
-        expected = model_contact_ratio(spec)
+    model = {}
+    for preset, (spec, ratio, total, _) in patchy_ratios.items():
+        model[preset] = model_contact_ratio(spec)
         tol = _sample_tol(0.7, total["nominal_contact_area_mm2"], 0.1)
-        np.testing.assert_allclose(ratio, expected, atol=tol)
+        np.testing.assert_allclose(ratio, model[preset], atol=tol)
     g0, g7 = patchy_ratios["G0"][1], patchy_ratios["G7"][1]
     assert g0 > g7 + 0.3
     # Fig. 4.21: about 0.70 (G0) and 0.25 (G7), read from the figure to +-0.05; the models
     # (rigid block, real_contact_fraction) reproduce them to another 0.05.
     for preset in ("G0", "G7"):
-        model = model_contact_ratio(patchy_ratios[preset][0])
-        np.testing.assert_allclose(model, THESIS_CONTACT_RATIO[preset], atol=0.1)
+        np.testing.assert_allclose(model[preset], THESIS_CONTACT_RATIO[preset], atol=0.1)
 
 
 def test_patchy_image_darkness_integrates_to_the_real_area(patchy_ratios):

@@ -5,7 +5,7 @@
   ``synthetic`` may use ``friction_model`` but not ``tir_contact``; ``tir_contact`` uses
   ``synthetic`` only in the two commands that make footage (``demo``, ``synth``).
 * No package imports a private module (``_name``) of another package.
-* Core dependencies (numpy, scipy, pandas, OpenCV, scikit-image, tifffile, tqdm) are imported
+* Core dependencies (numpy, scipy, pandas, OpenCV, tifffile, tqdm) are imported
   at module level; only matplotlib may be imported inside a function (it costs about 0.3 s at
   start-up and only plots need it).
 * No function has more than 80 code lines (docstring, comments and blank lines not counted)
@@ -30,7 +30,7 @@ MAY_IMPORT = {
     "tir_contact": {"tir_common", "friction_model"},
 }
 FOOTAGE_COMMANDS = {"tir_contact/commands/demo.py", "tir_contact/commands/synth.py"}
-CORE = {"numpy", "scipy", "pandas", "cv2", "skimage", "tifffile", "tqdm"}
+CORE = {"numpy", "scipy", "pandas", "cv2", "tifffile", "tqdm"}
 MAX_CODE_LINES = 80
 
 
