@@ -41,7 +41,7 @@ Ranges (uniform unless said)
 * Light: TIR lit zone "full" in 25 % of the clips, else disc, ellipse or band covering
   20-100 % of the frame with a rim of 0.3-3 mm, centred within 15 % of the field of view of
   the image centre, outside level 0.02-0.1; vignetting 0-0.6; illumination gradient 0-0.3;
-  white level 0.3-0.8.
+  recorded free-surface level (white level x gain) 0.3-0.9 of full scale.
 * Sensor: 8 bit in 70 % of the clips, else 12 bit; JPEG (quality 70-95) on half of the 8-bit
   clips; gain 1-4; contact dark in 90 % of the clips, else bright.
 * Contact: TIR real contact patchy in half of the clips (patch correlation 0.1-0.4 mm),
@@ -67,6 +67,7 @@ from typing import Any
 
 import numpy as np
 
+from synthetic._lighting import LIT_SHAPES
 from synthetic.footage import CameraSettings, FootageSpec
 
 __all__ = ["CASE_CLASSES", "real_photo_specs", "sample_spec", "sample_specs"]
@@ -84,7 +85,8 @@ CASE_CLASSES: tuple[str, ...] = (
     "side follow",
 )
 _PRESETS = ("G0", "G3", "G5", "G6", "G7")
-_LIT_SHAPES = ("disc", "ellipse", "band")
+#: The lit shapes with a rim (``"full"`` is drawn apart).
+_LIT_SHAPES = tuple(s for s in LIT_SHAPES if s != "full")
 #: Block length of the reference samples, mm.
 _BLOCK_MM = 20.0
 #: Least image height of a side view, mm: 6 mm elements, 2 mm base and 3 mm carrier above
