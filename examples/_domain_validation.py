@@ -31,31 +31,27 @@ import numpy as np
 import pandas as pd
 
 from synthetic.footage import FootageSpec, render_footage
-from tir_contact.analyze import AnalysisOptions, FrameAnalyser, analyze_video, prepare_video
-from tir_contact.io import open_footage
+from tir_contact.analyze import AnalysisOptions, analyze_video
 
 OPTIONS = AnalysisOptions(overlay_frames=0, parquet=False, regions="never")
 #: Clips with less contact than this on average (mm2) get no relative area error.
 MIN_SCORED_MM2 = 1.0
 
 
-def _outside_lit(clip: Path, setup_path: Path,
-                 truth_lit: np.ndarray) -> tuple[float, float, float]:
-    """Contact area (mm2, summed over frames) outside the true lit zone, the part of it more
-    than two pixels outside, and the total."""
-    far = cv2.distanceTransform((~truth_lit).astype(np.uint8), cv2.DIST_L2, 5) > 2.5
-    with open_footage(setup_path) as reader:
-        setup = prepare_video(reader, setup_path, None, OPTIONS)
-        analyse = FrameAnalyser(setup, OPTIONS)
-        outside = beyond = total = 0
-        for i in range(len(reader)):
-            r = analyse(int(setup.numbers[i]), reader.get_frame(i))
-            mask = r.detail.mask
-            outside += int(np.count_nonzero(mask & ~truth_lit))
-            beyond += int(np.count_nonzero(mask & far))
-            total += int(np.count_nonzero(mask))
-    px2 = setup.mm_per_px ** 2
-    return outside * px2, beyond * px2, total * px2
+class _OutsideLit:
+    """Contact pixels outside the true lit zone, more than two pixels outside it, and in
+    all, summed over the frames as the analysis makes them (``on_frame``)."""
+
+    def __init__(self, truth_lit: np.ndarray) -> None:
+        self.inside = truth_lit
+        self.far = cv2.distanceTransform((~truth_lit).astype(np.uint8), cv2.DIST_L2, 5) > 2.5
+        self.outside = self.beyond = self.total = 0
+
+    def __call__(self, result) -> None:
+        mask = result.detail.mask
+        self.outside += int(np.count_nonzero(mask & ~self.inside))
+        self.beyond += int(np.count_nonzero(mask & self.far))
+        self.total += int(np.count_nonzero(mask))
 
 
 def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
@@ -63,7 +59,10 @@ def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
     work = Path(tempfile.mkdtemp(prefix="tir-validate-"))
     try:
         clip = render_footage(spec, work / "clip", progress=False)
-        res = analyze_video(clip, options=OPTIONS)
+        lit_file = clip / "lit_mask.png"
+        lit = (_OutsideLit(cv2.imread(str(lit_file), cv2.IMREAD_GRAYSCALE) > 0)
+               if spec.view == "tir" and lit_file.exists() else None)
+        res = analyze_video(clip, options=OPTIONS, on_frame=lit)
         truth = pd.read_csv(clip / "ground_truth.csv")
         row = {"clip": index, "case": case, "preset": spec.preset if spec.scene == "block"
                else spec.scene, "real_contact": spec.real_contact,
@@ -72,7 +71,7 @@ def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
                "white_level": spec.camera.white_level, "camera_found": res.summary["camera"],
                "warnings": "; ".join(res.summary["warnings"])}
         if spec.view == "tir":
-            row.update(_compare_tir(res, truth, clip))
+            row.update(_compare_tir(res, truth, lit))
         else:
             row.update(_compare_side(res, truth))
         return row
@@ -80,7 +79,7 @@ def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
         shutil.rmtree(work, ignore_errors=True)
 
 
-def _compare_tir(res, truth: pd.DataFrame, clip: Path) -> dict:
+def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None) -> dict:
     block = truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
     measured = res.frames.set_index("frame")["contact_area_mm2"].reindex(block.index)
     true_sum = float(block.sum())
@@ -90,16 +89,11 @@ def _compare_tir(res, truth: pd.DataFrame, clip: Path) -> dict:
     out = {"true_area_mm2": mean_true,
            "area_err_pct": 100 * float((measured - block).abs().sum()) / true_sum
            if mean_true >= MIN_SCORED_MM2 else np.nan}
-    lit_file = clip / "lit_mask.png"
-    lit = (cv2.imread(str(lit_file), cv2.IMREAD_GRAYSCALE) > 0 if lit_file.exists()
-           else None)
     if lit is not None:
-        from tir_contact.analyze import resolve_footage
-
-        outside, beyond, total = _outside_lit(clip, resolve_footage(clip)[0], lit)
-        out["outside_lit_mm2"] = outside
-        out["outside_lit_pct"] = 100 * outside / total if total else 0.0
-        out["beyond_rim_pct"] = 100 * beyond / total if total else 0.0
+        px2 = float(res.summary["meta"]["mm_per_px"]) ** 2
+        out["outside_lit_mm2"] = lit.outside * px2
+        out["outside_lit_pct"] = 100 * lit.outside / lit.total if lit.total else 0.0
+        out["beyond_rim_pct"] = 100 * lit.beyond / lit.total if lit.total else 0.0
     el_truth = truth[(truth.element >= 0) & truth.in_view & (truth.contact_length_mm > 0)]
     if len(el_truth) and len(res.elements):
         merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))

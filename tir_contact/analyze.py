@@ -31,7 +31,7 @@ from __future__ import annotations
 import logging
 import os
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -93,6 +93,7 @@ def analyze_video(
     name: str | None = None,
     progress: bool | None = False,
     progress_position: int = 0,
+    on_frame: Callable[[FrameResult], None] | None = None,
 ) -> VideoAnalysis:
     """Analyse one video (TIR or side view, as ``meta.json`` says).
 
@@ -115,6 +116,10 @@ def analyze_video(
         Show a progress bar (None: only on a terminal).
     progress_position : int
         Line of the progress bar (for parallel batches).
+    on_frame : callable, optional
+        Called with each frame's :class:`~tir_contact.frame.FrameResult` as it is made
+        (e.g. to look at its contact mask, ``result.detail.mask``, which the tables do not
+        keep).
 
     Returns
     -------
@@ -159,6 +164,8 @@ def analyze_video(
             for i, k, frame in _frames(reader, setup, skipped, None if bar.disable else bar):
                 result = analyser(k, frame)
                 tables.add(result)
+                if on_frame is not None:
+                    on_frame(result)
                 if video is not None:
                     video.add(i, frame, result)
         finally:
