@@ -94,20 +94,38 @@ def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None) -> dict:
         out["outside_lit_mm2"] = lit.outside * px2
         out["outside_lit_pct"] = 100 * lit.outside / lit.total if lit.total else 0.0
         out["beyond_rim_pct"] = 100 * lit.beyond / lit.total if lit.total else 0.0
-    el_truth = truth[(truth.element >= 0) & truth.in_view & (truth.contact_length_mm > 0)]
-    if len(el_truth) and len(res.elements):
-        merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
-        whole = merged[np.isfinite(merged.liftoff_mm)]
-        if len(whole):
-            out["length_err_mm"] = float(
-                (whole.contact_length_mm - whole.contact_length_mm_t).abs().median())
+    if len(res.elements):
+        el_truth, merged = element_pairs(res, truth, with_contact=True)
+        length = length_errors(merged)
+        if len(el_truth) and len(length):
+            out["length_err_mm"] = float(length.median())
     return out
 
 
-def _compare_side(res, truth: pd.DataFrame) -> dict:
+def element_pairs(res, truth: pd.DataFrame, *,
+                  with_contact: bool) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The truth's elements in view (with contact, when `with_contact`) and those of them the
+    analysis measured, merged on frame and element (the truth's columns end in ``_t``)."""
     el_truth = truth[(truth.element >= 0) & truth.in_view]
-    merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
-    err = (merged.deflection_angle_deg - merged.deflection_angle_deg_t).abs()
+    if with_contact:
+        el_truth = el_truth[el_truth.contact_length_mm > 0]
+    return el_truth, el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
+
+
+def length_errors(merged: pd.DataFrame) -> pd.Series:
+    """|contact length error| (mm) of the elements wholly inside the image."""
+    whole = merged[np.isfinite(merged.liftoff_mm)]
+    return (whole.contact_length_mm - whole.contact_length_mm_t).abs()
+
+
+def angle_errors(merged: pd.DataFrame) -> pd.Series:
+    """|deflection angle error| (deg), NaN where no angle was measured."""
+    return (merged.deflection_angle_deg - merged.deflection_angle_deg_t).abs()
+
+
+def _compare_side(res, truth: pd.DataFrame) -> dict:
+    _, merged = element_pairs(res, truth, with_contact=False)
+    err = angle_errors(merged)
     return {"angle_err_deg": float(np.nanmedian(err)) if err.notna().any() else np.nan,
             "angles_found_pct": 100 * float(err.notna().mean()) if len(err) else 0.0}
 

@@ -41,7 +41,13 @@ import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _domain_validation import summarise, validate_clip
+from _domain_validation import (
+    angle_errors,
+    element_pairs,
+    length_errors,
+    summarise,
+    validate_clip,
+)
 
 from friction_model.geometry import reference_block
 from synthetic.domain import sample_specs
@@ -64,11 +70,8 @@ def compare_tir(res, truth: pd.DataFrame, mm_per_px: float) -> dict:
     area = frames.loc[contact, "contact_area_mm2"] / block.loc[contact, "contact_area_mm2"] - 1
     empty = block.index[~block.in_view]
     missed = int(frames.loc[empty, "block_in_view"].astype(bool).sum())
-    el_truth = truth[(truth.element >= 0) & truth.in_view & (truth.contact_length_mm > 0)]
-    merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
-    # element lengths are compared where the whole element is inside the image
-    whole = merged[np.isfinite(merged.liftoff_mm)]
-    length = (whole.contact_length_mm - whole.contact_length_mm_t).abs()
+    el_truth, merged = element_pairs(res, truth, with_contact=True)
+    length = length_errors(merged)  # elements wholly inside the image
     peak = (merged.front_peak_x_mm - merged.front_peak_x_mm_t).abs() / mm_per_px
     return {
         "frames_with_contact": len(contact),
@@ -83,9 +86,8 @@ def compare_tir(res, truth: pd.DataFrame, mm_per_px: float) -> dict:
 
 def compare_side(res, truth: pd.DataFrame) -> dict:
     """Median deflection-angle error of a side-view analysis against the truth."""
-    el_truth = truth[(truth.element >= 0) & truth.in_view]
-    merged = el_truth.merge(res.elements, on=["frame", "element"], suffixes=("_t", ""))
-    err = (merged.deflection_angle_deg - merged.deflection_angle_deg_t).abs()
+    el_truth, merged = element_pairs(res, truth, with_contact=False)
+    err = angle_errors(merged)
     block = truth[truth.element == -1].set_index("frame")
     frames = res.frames.set_index("frame")
     empty = block.index[~block.in_view]
