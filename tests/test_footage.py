@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import tifffile
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from friction_model.compound import REFERENCE_COMPOUND
@@ -334,13 +334,16 @@ def test_noise_matches_the_sensor_model():
     pitch=st.floats(0.03, 0.5),
     blur=st.floats(0.0, 2.0),
 )
+# Once failed: the second difference of G rounded to 1 + 1.03e-9 (cancellation, now clipped
+# to the hull of the profile's values); kept so that every run tries it.
+@example(a=1.0, length=16.0, pitch=0.03, blur=0.0016)
 def test_pixel_integration_conserves_the_contact_length(a, length, pitch, blur):
     # A unit-darkness contact [a, a + length] integrated over pixels of width ``pitch`` and
     # blurred: the pixel values sum to its length (exact area coverage), to rounding.
     prof = StepProfile(np.array([a, a + length]), np.array([1.0]))
     edges = np.arange(-10.0, 60.0 + pitch, pitch)
     values = prof.box_mean(edges[:-1], edges[1:], blur)
-    assert values.min() >= 0.0 and values.max() <= 1 + 1e-9
+    assert values.min() >= 0.0 and values.max() <= 1.0  # a mean of values in [0, 1]
     # Tolerance: rounding of the second integral G (values up to ~1e3 mm^2) over ~1e3 px.
     assert np.sum(values) * pitch == pytest.approx(length, rel=1e-6, abs=1e-9)
 
