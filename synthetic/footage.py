@@ -75,6 +75,8 @@ from typing import Any
 import cv2
 import numpy as np
 import pandas as pd
+import tifffile
+from scipy.ndimage import gaussian_filter
 
 from friction_model.compound import REFERENCE_COMPOUND
 from friction_model.contact.drywet_law import DryWetLaw
@@ -96,6 +98,7 @@ from synthetic._camera import (
     max_dn,
 )
 from synthetic._lighting import LIT_SHAPES, lit_distance, lit_factor, lit_zone_size
+from synthetic._physical import PHYSICAL_SCENES, PhysicalSetup, render_physical, scene_contact
 from synthetic._real_contact import (
     SUPERSAMPLE,
     PatchTexture,
@@ -126,11 +129,14 @@ from synthetic._render_tir import (
     tir_truth_rows,
 )
 from synthetic._writers import FrameSink, open_sink, write_meta
+from synthetic.ftir import GAP_INDEX, SUBSTRATE_INDEX, FtirOptics
+from synthetic.roughness import ROUGHNESS_PRESETS, e_star_Pa
 from tir_common.atomic import json_safe
 from tir_common.progress import progress_bar
 from tir_common.validate import check_number
 
 __all__ = [
+    "PHYSICAL_TRUTH_COLUMNS",
     "REAL_TRUTH_COLUMNS",
     "SCENES",
     "TRUTH_COLUMNS",
@@ -196,6 +202,14 @@ _REAL_DEFAULTS: dict[str, Any] = {
     "point_positions_mm": None,
     "real_contact": "solid",
     "patch_correlation_mm": 0.2,
+    "roughness": "abraded_rubber",
+    "sphere_radius_mm": 5.0,
+    "substrate": "ice",
+    "gap_medium": "air",
+    "incidence_deg": 60.0,
+    "wavelength_nm": 550.0,
+    "texture": 0.0,
+    "texture_mm": 0.05,
 }
 _CAMERA_REAL_DEFAULTS: dict[str, Any] = {
     "lit_shape": "full",
@@ -204,11 +218,15 @@ _CAMERA_REAL_DEFAULTS: dict[str, Any] = {
     "lit_center_mm": [0.0, 0.0],
     "outside_level": 0.05,
     "jpeg_quality": None,
+    "optical_blur_mm": 0.0,
 }
 #: Scenes of the TIR view: the sliding block or a static contact.
-SCENES = ("block", "round_pad", "coin", "three_point")
+SCENES = ("block", "round_pad", "coin", "three_point", *PHYSICAL_SCENES)
 #: Extra ground-truth columns of specs that use a real-footage field.
 REAL_TRUTH_COLUMNS = ("nominal_contact_area_mm2", "real_contact_fraction")
+#: Extra ground-truth column of the physical scenes: the area whose gap is below a tenth of
+#: the evanescent depth (``contact_area_mm2`` is the true contact, gap 0).
+PHYSICAL_TRUTH_COLUMNS = ("near_contact_area_mm2",)
 
 
 # -- validation helpers --------------------------------------------------------------------
@@ -305,6 +323,12 @@ class CameraSettings:
     jpeg_quality : int, optional
         JPEG quality 1-100: every frame is JPEG-compressed (OpenCV) and decoded again, and a
         clip folder gets ``.jpg`` frames; 8-bit only. None (default): no compression.
+    optical_blur_mm : float
+        Standard deviation of the lens's Gaussian point-spread function in the object
+        plane, mm, in [0, 10]; used by the physical scenes (``FootageSpec.scene``
+        "rough_pad", "rough_sphere"), which draw contact finer than a pixel. 0: an ideal
+        lens. A lens at f/4 and 550 nm resolves about 3 um on the sensor; at 0.01 mm/px
+        and a 1:1 image, 0.003.
     """
 
     fps: float = 4000.0
@@ -331,6 +355,7 @@ class CameraSettings:
     lit_center_mm: tuple[float, float] = (0.0, 0.0)
     outside_level: float = 0.05
     jpeg_quality: int | None = None
+    optical_blur_mm: float = 0.0
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
@@ -391,6 +416,10 @@ class CameraSettings:
         )
         put("outside_level",
             check_number("outside_level", self.outside_level, low=0.0, high=1.0, high_open=True))
+        put(
+            "optical_blur_mm",
+            check_number("optical_blur_mm", self.optical_blur_mm, low=0.0, high=10.0, unit="mm"),
+        )
         if self.jpeg_quality is not None:
             put("jpeg_quality", _integer("jpeg_quality", self.jpeg_quality, 1, 100))
             if self.bit_depth != 8:
@@ -525,6 +554,27 @@ class FootageSpec:
     patch_correlation_mm : float
         Size of the micro-contact patches: standard deviation of the Gaussian filter of the
         random field, mm, in (0, 10]; 0.2.
+    roughness : str
+        Physical scenes ("rough_pad", "rough_sphere"): the rubber's rough surface, a key of
+        :data:`synthetic.roughness.ROUGHNESS_PRESETS`. The contact is solved by tamaas
+        (optional extra ``contact``) at the nominal pressure ``pressure_bar`` (pad) or the
+        mean Hertz pressure ``pressure_bar`` (sphere), with the one rubber's E*; see
+        :mod:`synthetic._physical`.
+    sphere_radius_mm : float
+        Radius of the rough sphere, mm, in (0, 1000]; 5.
+    substrate, gap_medium : str
+        Physical scenes: what the rubber touches ("ice", "acrylic", "glass") and what fills
+        the gap ("air", "water"), :class:`synthetic.ftir.FtirOptics`.
+    incidence_deg, wavelength_nm : float
+        Physical scenes: angle of the light in the substrate (deg; 60) and its wavelength
+        (nm; 550).
+    texture : float
+        Relative rms modulation of the free surface's light by the ice's (or glass's) own
+        texture, in [0, 1): a Gaussian random field of correlation ``texture_mm``,
+        multiplied into the light of the static ice (TIR view without ``follow_camera``).
+        0 (default): none.
+    texture_mm : float
+        Correlation length of the texture, mm, in (0, 100]; 0.05.
 
     Notes
     -----
@@ -570,6 +620,14 @@ class FootageSpec:
     point_positions_mm: tuple[tuple[float, float], ...] | None = None
     real_contact: str = "solid"
     patch_correlation_mm: float = 0.2
+    roughness: str = "abraded_rubber"
+    sphere_radius_mm: float = 5.0
+    substrate: str = "ice"
+    gap_medium: str = "air"
+    incidence_deg: float = 60.0
+    wavelength_nm: float = 550.0
+    texture: float = 0.0
+    texture_mm: float = 0.05
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
@@ -682,6 +740,7 @@ class FootageSpec:
                     )
                 )
             put("point_positions_mm", tuple(clean))
+        self._check_physical(put)
         if self.view == "side":
             for name, value, default in (
                 ("scene", self.scene, "block"),
@@ -698,6 +757,55 @@ class FootageSpec:
                 f"follow_camera must be False for a static scene, got follow_camera=True with "
                 f"scene={self.scene!r}"
             )
+
+    def _check_physical(self, put: Any) -> None:
+        """Validate the fields of the physical scenes and the surface texture."""
+        put("roughness", _choice("roughness", self.roughness, tuple(ROUGHNESS_PRESETS)))
+        put(
+            "sphere_radius_mm",
+            check_number(
+                "sphere_radius_mm", self.sphere_radius_mm, low=0.0, high=1000.0, low_open=True
+            ),
+        )
+        put("substrate", _choice("substrate", self.substrate, tuple(SUBSTRATE_INDEX)))
+        put("gap_medium", _choice("gap_medium", self.gap_medium, tuple(GAP_INDEX)))
+        put("texture", check_number("texture", self.texture, low=0.0, high=1.0, high_open=True))
+        put(
+            "texture_mm",
+            check_number("texture_mm", self.texture_mm, low=0.0, high=100.0, low_open=True),
+        )
+        optics = self.optics  # validates angle and wavelength
+        if self.is_physical and not optics.total_reflection:
+            raise ValueError(
+                f"incidence_deg={self.incidence_deg!r} gives no total reflection from "
+                f"{self.substrate} into {self.gap_medium} (needs n sin(theta) > "
+                f"{optics.n_gap}): a TIR camera would see no contact image"
+            )
+        if self.is_physical and self.contact_is != "dark":
+            raise ValueError(
+                "contact_is must be 'dark' for a physical scene (frustrated TIR darkens the "
+                f"contact), got contact_is={self.contact_is!r}"
+            )
+        if self.texture > 0.0 and self.follow_camera:
+            raise ValueError(
+                "texture must be 0 with follow_camera=True (the texture is fixed to the ice), "
+                f"got texture={self.texture!r}"
+            )
+
+    @property
+    def optics(self) -> FtirOptics:
+        """The frustrated-TIR optics of the physical scenes."""
+        return FtirOptics(
+            substrate=self.substrate,
+            gap=self.gap_medium,
+            incidence_deg=self.incidence_deg,
+            wavelength_nm=self.wavelength_nm,
+        )
+
+    @property
+    def is_physical(self) -> bool:
+        """True for a scene drawn from contact mechanics and optics."""
+        return self.scene in PHYSICAL_SCENES
 
     @property
     def is_static(self) -> bool:
@@ -719,6 +827,8 @@ class FootageSpec:
     def truth_columns(self) -> tuple[str, ...]:
         """Columns of this spec's ground truth: :data:`TRUTH_COLUMNS`, plus
         :data:`REAL_TRUTH_COLUMNS` when it uses a real-footage field."""
+        if self.is_physical:
+            return TRUTH_COLUMNS + REAL_TRUTH_COLUMNS + PHYSICAL_TRUTH_COLUMNS
         if self.uses_real_footage_fields:
             return TRUTH_COLUMNS + REAL_TRUTH_COLUMNS
         return TRUTH_COLUMNS
@@ -1015,6 +1125,13 @@ def model_contact_ratio(spec: FootageSpec) -> float:
     if not isinstance(spec, FootageSpec):
         raise TypeError(f"spec must be a FootageSpec, got {type(spec).__name__}")
     patchy = spec.real_contact == "patchy"
+    if spec.is_physical:
+        setup = physical_setup(spec)
+        solved = scene_contact(setup)
+        if spec.scene == "rough_pad":
+            return solved.contact_fraction
+        a_mm = setup.hertz_radius_mm
+        return solved.contact_fraction * solved.size_mm**2 / (math.pi * a_mm * a_mm)
     if spec.is_static:
         if not patchy:
             return 1.0
@@ -1145,6 +1262,37 @@ def static_scene(spec: FootageSpec) -> StaticScene:
     raise ValueError(f"scene must be a static scene, got scene={spec.scene!r}")
 
 
+def physical_setup(spec: FootageSpec) -> PhysicalSetup:
+    """The contact-mechanics and optics set-up of a physical scene (centred on the lit zone)."""
+    if not spec.is_physical:
+        raise ValueError(f"scene must be one of {list(PHYSICAL_SCENES)}, got {spec.scene!r}")
+    cam = spec.camera
+    w_mm, h_mm = cam.field_of_view_mm
+    return PhysicalSetup(
+        scene=spec.scene,
+        roughness=ROUGHNESS_PRESETS[spec.roughness],
+        optics=spec.optics,
+        pressure_Pa=spec.pressure_bar * 1e5,
+        pad_radius_mm=spec.pad_radius_mm,
+        sphere_radius_mm=spec.sphere_radius_mm,
+        centre_mm=(0.5 * w_mm + cam.lit_center_mm[0], 0.5 * h_mm + cam.lit_center_mm[1]),
+        seed=spec.seed,
+        optical_blur_mm=cam.optical_blur_mm,
+    )
+
+
+def _texture_field(spec: FootageSpec, mm_per_px: float) -> np.ndarray:
+    """Light factor of the free surface's own texture: ``1 + texture * f`` (clipped at 0),
+    ``f`` a Gaussian random field of unit variance and correlation ``texture_mm``."""
+    cam = spec.camera
+    rng = np.random.default_rng(np.random.SeedSequence(spec.seed, spawn_key=(3,)))
+    noise = rng.standard_normal((cam.height_px, cam.width_px))
+    sigma = spec.texture_mm / mm_per_px
+    field_ = gaussian_filter(noise, sigma, mode="wrap") if sigma > 0.1 else noise
+    field_ /= max(float(field_.std()), 1e-12)
+    return np.clip(1.0 + spec.texture * field_, 0.0, None).astype(np.float32)
+
+
 class _IceCanvas:
     """Ice imperfections over the whole stretch a following TIR camera sees (moving ice)."""
 
@@ -1234,8 +1382,9 @@ class _Clip:
         if spec.real_contact == "patchy":
             self.patches = self._patch_texture()
         self.static: tuple[np.ndarray, list[dict[str, Any]]] | None = None
+        self.physical: Any = None
         if spec.is_static:
-            self.static = self._render_static()
+            self.static = self._render_physical() if spec.is_physical else self._render_static()
         self.sensor = Sensor(
             (cam.height_px, cam.width_px),
             bit_depth=cam.bit_depth,
@@ -1263,6 +1412,8 @@ class _Clip:
                 n_scratches=cam.n_scratches,
                 groove_depth=cam.groove_depth,
             )
+            if spec.texture > 0.0:
+                ice = ice * _texture_field(spec, self.path.mm_per_px)
             # the factor is exactly 1 everywhere for a fully lit frame
             self.base = (level * illum * ice * dust * self.lit.factor).astype(np.float32)
         self.lateral = self.path.lateral_coverage()
@@ -1422,6 +1573,41 @@ class _Clip:
                 peak_pressure_MPa=scene.peak_pressure_Pa * 1e-6,
             )
         return sig, [total, *rows]
+
+    def _render_physical(self) -> tuple[np.ndarray, list[dict[str, Any]]]:
+        """Signal and ground-truth rows of a physical scene (contact mechanics and optics)."""
+        spec, cam = self.spec, self.spec.camera
+        setup = physical_setup(spec)
+        r = render_physical(
+            setup, height_px=cam.height_px, width_px=cam.width_px, mm_per_px=cam.mm_per_px
+        )
+        self.physical = r
+        sig = (self.base * r.reflectance).astype(np.float32)
+        lit = self.lit.mask
+        px2 = cam.mm_per_px**2
+        real = float(np.sum(r.covered[lit], dtype=np.float64)) * px2
+        near = float(np.sum(r.near[lit], dtype=np.float64)) * px2
+        nominal = float(np.sum(r.nominal[lit], dtype=np.float64)) * px2
+        radius = setup.nominal_radius_mm
+        load_N = setup.pressure_Pa * math.pi * (radius * 1e-3) ** 2
+        peak = setup.pressure_Pa * (1.5 if spec.scene == "rough_sphere" else 1.0)
+        nan = math.nan
+        in_view = bool(np.any(r.nominal > 0))
+        row: dict[str, Any] = {col: nan for col in self.columns[2:]}
+        row.update(
+            element=0,
+            in_view=in_view,
+            contact_area_mm2=real,
+            front_peak_x_mm=setup.centre_mm[0],
+            contact_fraction=1.0,
+            normal_force_N=load_N,
+            peak_pressure_MPa=peak * 1e-6,
+            nominal_contact_area_mm2=nominal,
+            real_contact_fraction=real / nominal if nominal > 0 else nan,
+            near_contact_area_mm2=near,
+        )
+        total = dict(row, element=-1, front_peak_x_mm=nan)
+        return sig, [total, row] if in_view else [dict(total, in_view=False)]
 
     def _lit_samples(self, rows_px: tuple[int, int], cols_px: tuple[int, int]) -> np.ndarray:
         """The lit mask of the pixels in the ranges, repeated onto their sub-pixel samples."""
@@ -1859,6 +2045,9 @@ def render_footage(
         sink.close()
         bar.close()
     extra: dict[str, Any] = {}
+    if clip.physical is not None:
+        # the share of each pixel in true contact (gap 0), the same in every frame
+        _write_atomic_tiff(out / "covered_fraction.tif", clip.physical.covered)
     if spec.uses_real_footage_fields:
         extra = (
             _write_lit_mask(out, spec, clip.lit)
@@ -1868,6 +2057,12 @@ def render_footage(
     write_meta(out, spec, sink, truth_columns=columns, extra=extra)
     logger.info("wrote %d frames to %s (%s)", spec.n_frames, out, fmt)
     return out
+
+
+def _write_atomic_tiff(path: Path, image: np.ndarray) -> None:
+    tmp = path.with_name(path.name + ".part")
+    tifffile.imwrite(tmp, np.asarray(image, dtype=np.float32))
+    tmp.replace(path)
 
 
 def _fmt(v: Any) -> str:
@@ -1902,7 +2097,21 @@ def _write_lit_mask(out: Path, spec: FootageSpec, zone: LitZone) -> dict[str, An
         "real_contact": spec.real_contact,
         "jpeg_quality": cam.jpeg_quality,
     }
-    if spec.is_static:
+    if spec.is_physical:
+        setup = physical_setup(spec)
+        entries["physical_contact"] = {
+            "scene": spec.scene,
+            "centre_mm": list(setup.centre_mm),
+            "nominal_radius_mm": setup.nominal_radius_mm,
+            "roughness": dataclasses.asdict(setup.roughness)
+            | {"rms_height_m": setup.roughness.rms_height_m},
+            "optics": dataclasses.asdict(setup.optics)
+            | {"evanescent_depth_m": setup.optics.evanescent_depth_m},
+            "e_star_Pa": e_star_Pa(),
+            "solver": "tamaas PolonskyKeerRey",
+            "covered_fraction_file": "covered_fraction.tif",
+        }
+    elif spec.is_static:
         sc = static_scene(spec)
         entries["static_contact"] = {
             "centres_mm": [list(c) for c in sc.centres_mm],

@@ -59,6 +59,7 @@ _CAMERA_FIELDS = {
     "lit_fraction": "lit_fraction",
     "lit_rim": "lit_rim_mm",
     "jpeg_quality": "jpeg_quality",
+    "optical_blur": "optical_blur_mm",
 }
 # CLI option dest -> FootageSpec field of synthetic.footage
 _SPEC_FIELDS = {
@@ -76,6 +77,12 @@ _SPEC_FIELDS = {
     "scene": "scene",
     "real_contact": "real_contact",
     "follow_camera": "follow_camera",
+    "roughness": "roughness",
+    "pad_radius": "pad_radius_mm",
+    "sphere_radius": "sphere_radius_mm",
+    "substrate": "substrate",
+    "gap_medium": "gap_medium",
+    "texture": "texture",
 }
 
 
@@ -162,12 +169,32 @@ def _add_footage(sub: Any) -> None:
                       help="width of the lit zone's soft rim, mm")
     real.add_argument("--jpeg-quality", type=_positive_int, metavar="Q",
                       help="JPEG-compress the frames (8 bit; 1-100)")
-    real.add_argument("--scene", choices=("block", "round_pad", "coin", "three_point"),
-                      help="a sliding block (default) or a static contact")
+    real.add_argument("--scene",
+                      choices=("block", "round_pad", "coin", "three_point", "rough_pad",
+                               "rough_sphere"),
+                      help="a sliding block (default) or a static contact; rough_pad and "
+                      "rough_sphere: contact from a rough-contact solver and TIR optics "
+                      "(needs the contact extra); a load series is a loop over --pressure")
     real.add_argument("--real-contact", choices=("solid", "patchy"),
                       help="patchy: micro-contact patches with the friction model's share")
     real.add_argument("--follow-camera", action="store_const", const=True, default=None,
                       help="the camera moves with the block")
+    real.add_argument("--pad-radius", type=_positive, metavar="MM",
+                      help="round_pad / rough_pad radius, mm")
+    real.add_argument("--texture", type=_non_negative, metavar="F",
+                      help="rms light texture of the free surface, fraction (e.g. 0.1)")
+    phys = p.add_argument_group("physical scenes (rough_pad, rough_sphere)")
+    phys.add_argument("--roughness", metavar="NAME",
+                      help="rough surface: abraded_rubber (default), moulded_rubber, "
+                      "sandblasted_elastomer, rough_ice")
+    phys.add_argument("--sphere-radius", type=_positive, metavar="MM",
+                      help="rough_sphere radius, mm (default 5)")
+    phys.add_argument("--substrate", choices=("ice", "acrylic", "glass"),
+                      help="what the rubber touches (default ice)")
+    phys.add_argument("--gap-medium", choices=("air", "water"),
+                      help="what fills the gap (default air)")
+    phys.add_argument("--optical-blur", type=_non_negative, metavar="MM",
+                      help="lens point-spread standard deviation, mm (default 0)")
     cond = p.add_argument_group("conditions (default: the renderer's)")
     cond.add_argument("--pressure", type=_positive, metavar="BAR", help="nominal pressure, bar")
     cond.add_argument("--temperature", type=_number, metavar="C", help="ice temperature, degC")
@@ -299,7 +326,8 @@ def _run_footage(args: argparse.Namespace) -> int:
     spec = FootageSpec(**spec_kwargs, camera=CameraSettings(**camera))
     fmt = "jpg" if args.jpeg_quality is not None else args.format
     path = render_footage(spec, args.out, fmt=fmt)
-    print(f"footage: rendered {args.frames} frames ({fmt}) of {args.preset} to {path}")
+    what = args.preset if spec.scene == "block" else f"the {spec.scene} scene"
+    print(f"footage: rendered {spec.n_frames} frames ({fmt}) of {what} to {path}")
     return 0
 
 
