@@ -52,6 +52,7 @@ __all__ = [
     "PhysicalSetup",
     "render_physical",
     "scene_contact",
+    "scene_contact_tile",
 ]
 
 #: Static scenes rendered from contact mechanics and optics.
@@ -126,6 +127,22 @@ def _smooth_size(n: int) -> int:
         m += 1
 
 
+@functools.lru_cache(maxsize=64)
+def scene_contact_tile(
+    roughness: Roughness, n_points: int, seed: int, pressure_Pa: float
+) -> ContactField:
+    """The rough contact of one periodic tile (``n_points`` per side at the roughness's grid
+    spacing) under the nominal pressure ``pressure_Pa`` (cached)."""
+    size = n_points * roughness.grid_spacing_mm
+    if size < roughness.long_wavelength_mm:
+        raise ValueError(
+            f"roughness {roughness.name!r}: a tile of {n_points} points ({size:.3g} mm) is "
+            f"shorter than the long wavelength {roughness.long_wavelength_mm} mm"
+        )
+    h = rough_heights(roughness, size, n_points, seed)
+    return solve_contact(h, size, pressure_Pa, e_star_Pa())
+
+
 @functools.lru_cache(maxsize=8)
 def scene_contact(setup: PhysicalSetup) -> ContactField:
     """Solve the scene's contact once (cached per setup).
@@ -141,15 +158,7 @@ def scene_contact(setup: PhysicalSetup) -> ContactField:
     if setup.scene == "rough_pad":
         want = max(2.0 * setup.pad_radius_mm, 2.0 * rough.long_wavelength_mm)
         n = min(_smooth_size(math.ceil(want / dx)), MAX_TILE_POINTS)
-        size = n * dx
-        if size < rough.long_wavelength_mm:
-            raise ValueError(
-                f"roughness {rough.name!r}: a tile of {MAX_TILE_POINTS} points "
-                f"({size:.3g} mm) is shorter than the long wavelength "
-                f"{rough.long_wavelength_mm} mm"
-            )
-        h = rough_heights(rough, size, n, setup.seed)
-        return solve_contact(h, size, setup.pressure_Pa, e_star_Pa())
+        return scene_contact_tile(rough, n, setup.seed, setup.pressure_Pa)
     a = setup.hertz_radius_mm
     want = max(SPHERE_TILE_RADII * a, 2.0 * rough.long_wavelength_mm)
     n = _smooth_size(math.ceil(want / dx))

@@ -99,6 +99,7 @@ from synthetic._camera import (
 )
 from synthetic._lighting import LIT_SHAPES, lit_distance, lit_factor, lit_zone_size
 from synthetic._physical import PHYSICAL_SCENES, PhysicalSetup, render_physical, scene_contact
+from synthetic._physical_block import BinIntegrals, PhysicalBlock, physical_fractions
 from synthetic._real_contact import (
     SUPERSAMPLE,
     PatchTexture,
@@ -546,11 +547,14 @@ class FootageSpec:
     point_positions_mm : tuple of three (x, y), optional
         Centres of the three point contacts relative to the lit zone's centre, mm; default
         an equilateral triangle 3 mm from the centre (at 90, 210 and 330 deg).
-    real_contact : {"solid", "patchy"}
+    real_contact : {"solid", "patchy", "physical"}
         TIR view: "solid": the whole nominal contact touches (as before this field
         existed); "patchy": only micro-contact patches touch, covering the share
         ``phi(p)`` of the nominal contact that :func:`friction_model.real_contact_fraction`
-        gives at the local pressure (see :mod:`synthetic._real_contact`).
+        gives at the local pressure (see :mod:`synthetic._real_contact`); "physical": each
+        element's rough face (``roughness``) in the contact solved at its local pressure,
+        with frustrated-TIR grey levels (:mod:`synthetic._physical_block`; needs the
+        contact extra, ``rotation_deg`` 0).
     patch_correlation_mm : float
         Size of the micro-contact patches: standard deviation of the Gaussian filter of the
         random field, mm, in (0, 10]; 0.2.
@@ -699,7 +703,10 @@ class FootageSpec:
     def _check_real_footage(self, put: Any) -> None:
         """Validate the scene and real-contact fields."""
         put("scene", _choice("scene", self.scene, SCENES))
-        put("real_contact", _choice("real_contact", self.real_contact, ("solid", "patchy")))
+        put(
+            "real_contact",
+            _choice("real_contact", self.real_contact, ("solid", "patchy", "physical")),
+        )
         put(
             "pad_radius_mm",
             check_number("pad_radius_mm", self.pad_radius_mm, low=0.0, high=100.0, low_open=True),
@@ -786,6 +793,17 @@ class FootageSpec:
                 "contact_is must be 'dark' for a physical scene (frustrated TIR darkens the "
                 f"contact), got contact_is={self.contact_is!r}"
             )
+        if self.real_contact == "physical" and (self.scene != "block" or self.view != "tir"):
+            raise ValueError(
+                "real_contact='physical' is for the sliding block in the TIR view (the static "
+                "physical scenes are 'rough_pad' and 'rough_sphere'), got "
+                f"scene={self.scene!r}, view={self.view!r}"
+            )
+        if self.real_contact == "physical" and self.camera.rotation_deg != 0.0:
+            raise ValueError(
+                "camera.rotation_deg must be 0 with real_contact='physical' (the block's rough "
+                f"faces are precomputed along the image rows), got {self.camera.rotation_deg!r}"
+            )
         if self.texture > 0.0 and self.follow_camera:
             raise ValueError(
                 "texture must be 0 with follow_camera=True (the texture is fixed to the ice), "
@@ -804,8 +822,9 @@ class FootageSpec:
 
     @property
     def is_physical(self) -> bool:
-        """True for a scene drawn from contact mechanics and optics."""
-        return self.scene in PHYSICAL_SCENES
+        """True when contact is drawn from contact mechanics and optics (the static scenes
+        "rough_pad" and "rough_sphere", or the block with ``real_contact="physical"``)."""
+        return self.scene in PHYSICAL_SCENES or self.real_contact == "physical"
 
     @property
     def is_static(self) -> bool:
@@ -1125,7 +1144,7 @@ def model_contact_ratio(spec: FootageSpec) -> float:
     if not isinstance(spec, FootageSpec):
         raise TypeError(f"spec must be a FootageSpec, got {type(spec).__name__}")
     patchy = spec.real_contact == "patchy"
-    if spec.is_physical:
+    if spec.is_physical and spec.is_static:
         setup = physical_setup(spec)
         solved = scene_contact(setup)
         if spec.scene == "rough_pad":
@@ -1154,7 +1173,12 @@ def model_contact_ratio(spec: FootageSpec) -> float:
         frame = _element_frame(geom, states, k)
         contacts = element_contacts(frame, params, node_spacing_mm=spacing)
         nodes, p_mid, elem = pressure_cells(frame, contacts)
-        weight = real_fraction(p_mid) if patchy else (elem >= 0).astype(float)
+        if spec.real_contact == "physical":
+            weight = physical_fractions(
+                ROUGHNESS_PRESETS[spec.roughness], spec.seed, p_mid, spec.pressure_bar * 1e5
+            ) * (elem >= 0)
+        else:
+            weight = real_fraction(p_mid) if patchy else (elem >= 0).astype(float)
         ratios.append(float(np.sum(weight * np.diff(nodes))) / geom.length_mm)
     return float(np.mean(ratios))
 
@@ -1264,7 +1288,7 @@ def static_scene(spec: FootageSpec) -> StaticScene:
 
 def physical_setup(spec: FootageSpec) -> PhysicalSetup:
     """The contact-mechanics and optics set-up of a physical scene (centred on the lit zone)."""
-    if not spec.is_physical:
+    if not (spec.is_physical and spec.is_static):
         raise ValueError(f"scene must be one of {list(PHYSICAL_SCENES)}, got {spec.scene!r}")
     cam = spec.camera
     w_mm, h_mm = cam.field_of_view_mm
@@ -1383,6 +1407,14 @@ class _Clip:
             self.patches = self._patch_texture()
         self.static: tuple[np.ndarray, list[dict[str, Any]]] | None = None
         self.physical: Any = None
+        self.phys_block: PhysicalBlock | None = None
+        self._phys_cache: tuple[int, Any] | None = None
+        #: set by render_footage for the frames whose covered-fraction image it writes
+        self.keep_covered = False
+        self.last_covered: np.ndarray | None = None
+        self._frame_k = 0
+        if spec.real_contact == "physical":
+            self.phys_block = self._physical_block()
         if spec.is_static:
             self.static = self._render_physical() if spec.is_physical else self._render_static()
         self.sensor = Sensor(
@@ -1574,6 +1606,98 @@ class _Clip:
             )
         return sig, [total, *rows]
 
+    def _physical_block(self) -> PhysicalBlock:
+        """Precompute the block's rough faces over the pixel rows it can cover."""
+        spec, cam = self.spec, self.spec.camera
+        lat_rows = np.nonzero(self.lateral.max(axis=1) > 0)[0]
+        self._phys_rows = (int(lat_rows[0]), int(lat_rows[-1]) + 1)
+        rows = np.arange(*self._phys_rows, dtype=np.float64)
+        row_v = rows * cam.mm_per_px - self.path.centre[1] - self.path.lateral_mm
+        states = self.states
+        sample = np.unique(np.linspace(0, spec.n_frames - 1, min(spec.n_frames, 12)).astype(int))
+        p_max = 0.0
+        for k in sample:
+            frame = _element_frame(self.geom, states, int(k))
+            contacts = element_contacts(frame, self.contact, node_spacing_mm=self.node_spacing_mm)
+            _, p_mid, _ = pressure_cells(frame, contacts)
+            p_max = max(p_max, float(p_mid.max()) if p_mid.size else 0.0)
+        return PhysicalBlock(
+            ROUGHNESS_PRESETS[spec.roughness],
+            spec.optics,
+            spec.seed,
+            n_elements=self.geom.n_elements,
+            row_v_mm=row_v,
+            mm_per_px=cam.mm_per_px,
+            nominal_pressure_Pa=spec.pressure_bar * 1e5,
+            max_pressure_Pa=p_max,
+        )
+
+    def _render_physical_block(
+        self,
+        frame: ElementFrame,
+        contacts: list[Any],
+        u_front: float,
+        base: np.ndarray,
+        blur_mm: float,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """TIR signal of the block's physical contact; each element's true and near-contact
+        area inside the lit mask, mm^2."""
+        pb = self.phys_block
+        n = frame.n_elements
+        key = self.states.row(self._frame_k)
+        if self._phys_cache is None or self._phys_cache[0] != key:
+            nodes, p_mid, elem = pressure_cells(frame, contacts)
+            if p_mid.size == 0:
+                self._phys_cache = (key, None)
+            else:
+                fb = pb.bins(nodes, p_mid, elem)
+                ints = tuple(
+                    BinIntegrals(v, fb.xi0_mm, pb.bin_mm) for v in (fb.dark, fb.covered, fb.near)
+                )
+                edges = fb.xi0_mm + np.arange(fb.element.size + 1) * pb.bin_mm
+                spans = []
+                for i in range(n):
+                    sel = np.nonzero(fb.element == i)[0]
+                    spans.append((edges[sel[0]], edges[sel[-1] + 1]) if sel.size else None)
+                self._phys_cache = (key, (ints, spans))
+        cached = self._phys_cache[1]
+        if cached is None:
+            return base.copy(), np.zeros(n), np.zeros(n)
+        (dark_i, cov_i, near_i), spans = cached
+        px = self.path.mm_per_px
+        w = base.shape[1]
+        xs = np.arange(w + 1, dtype=np.float64) * px
+        xi = (xs - u_front) * self.path.direction
+        lo, hi = np.minimum(xi[:-1], xi[1:]), np.maximum(xi[:-1], xi[1:])
+        r0, r1 = self._phys_rows
+        lat = self.lateral[r0:r1]
+        out = base.copy()
+        end = dark_i.xi0 + dark_i.m * pb.bin_mm
+        cols = np.nonzero((hi + blur_mm > dark_i.xi0) & (lo - blur_mm < end))[0]
+        if cols.size:
+            c0, c1 = int(cols[0]), int(cols[-1]) + 1
+            dark = dark_i.box_means(lo[c0:c1], hi[c0:c1], blur_mm) * lat[:, c0:c1]
+            out[r0:r1, c0:c1] = base[r0:r1, c0:c1] * (1.0 - dark).astype(np.float32)
+            if self.keep_covered:
+                cov = np.zeros(base.shape, np.float32)
+                cov[r0:r1, c0:c1] = cov_i.box_means(lo[c0:c1], hi[c0:c1]) * lat[:, c0:c1]
+                self.last_covered = cov
+        weight = lat * self.lit.mask[r0:r1] * px * px
+        real, near = np.zeros(n), np.zeros(n)
+        for i, span in enumerate(spans):
+            if span is None:
+                continue
+            a, b = span
+            c = np.nonzero((hi > a) & (lo < b))[0]
+            if not c.size:
+                continue
+            la, hb = np.clip(lo[c], a, b), np.clip(hi[c], a, b)
+            # integrals over the element's part of each pixel, per pixel area
+            wc = weight[:, c] / (hi[c] - lo[c])
+            real[i] = float(np.sum((cov_i.first(hb) - cov_i.first(la)) * wc))
+            near[i] = float(np.sum((near_i.first(hb) - near_i.first(la)) * wc))
+        return out, real, near
+
     def _render_physical(self) -> tuple[np.ndarray, list[dict[str, Any]]]:
         """Signal and ground-truth rows of a physical scene (contact mechanics and optics)."""
         spec, cam = self.spec, self.spec.camera
@@ -1668,6 +1792,7 @@ class _Clip:
         if self.static is not None:
             return self.static[0], self._table(k, [dict(r) for r in self.static[1]])
         frame, contacts, deflection, profile = self._model_frame(k)
+        self._frame_k = k
         u_front = self.u_front(k)
         bright = spec.contact_is == "bright"
         if spec.view == "tir":
@@ -1677,9 +1802,11 @@ class _Clip:
                 else self.camera_base * self.ice_canvas.frame(k)
             )
             blur = 0.0 if spec.follow_camera else self.blur_of(k)
-            real = None
+            real = near = None
             if self.patches is not None:
                 sig, real = self._render_patchy(frame, contacts, u_front, base, blur)
+            elif self.phys_block is not None:
+                sig, real, near = self._render_physical_block(frame, contacts, u_front, base, blur)
             else:
                 sig = render_tir_signal(
                     profile,
@@ -1696,6 +1823,10 @@ class _Clip:
             )
             if self.extended:
                 self._real_truth(rows, frame, contacts, u_front, real)
+            if near is not None:
+                for r in rows:
+                    i = int(r["element"])
+                    r["near_contact_area_mm2"] = float(near[i] if i >= 0 else near.sum())
         else:
             if spec.follow_camera:
                 tex = ice_texture_frame(
@@ -1964,8 +2095,12 @@ def iter_frames(spec: FootageSpec) -> Iterator[tuple[int, np.ndarray, pd.DataFra
         yield k, img, table
 
 
-def _iter_encoded(clip: _Clip) -> Iterator[tuple[int, np.ndarray, pd.DataFrame, bytes | None]]:
+def _iter_encoded(
+    clip: _Clip, keep_covered: set[int] | frozenset[int] = frozenset()
+) -> Iterator[tuple[int, np.ndarray, pd.DataFrame, bytes | None]]:
     for k in range(clip.spec.n_frames):
+        clip.keep_covered = k in keep_covered
+        clip.last_covered = None
         img, table, encoded = clip.image(k)
         yield k, img, table, encoded
 
@@ -2034,11 +2169,24 @@ def render_footage(
     truth_path = out / "ground_truth.csv"
     columns = spec.truth_columns
     clip = _Clip(spec)
+    # the block's physical contact: the covered-fraction image of a quarter, the middle and
+    # three quarters of the clip
+    covered_frames = (
+        {spec.n_frames // 4, spec.n_frames // 2, (3 * spec.n_frames) // 4}
+        if clip.phys_block is not None
+        else set()
+    )
     try:
         with open(truth_path, "w", newline="", encoding="utf-8") as fh:
             fh.write(",".join(columns) + "\n")
-            for k, img, table, encoded in _iter_encoded(clip):
+            for k, img, table, encoded in _iter_encoded(clip, covered_frames):
                 sink.write(k, img, encoded=encoded)
+                if k in covered_frames:
+                    cov = clip.last_covered
+                    if cov is None:
+                        cov = np.zeros((spec.camera.height_px, spec.camera.width_px), np.float32)
+                    (out / "covered_fraction").mkdir(exist_ok=True)
+                    _write_atomic_tiff(out / "covered_fraction" / f"frame_{k:06d}.tif", cov)
                 _write_rows(fh, table, columns)
                 bar.update(1)
     finally:
@@ -2097,7 +2245,18 @@ def _write_lit_mask(out: Path, spec: FootageSpec, zone: LitZone) -> dict[str, An
         "real_contact": spec.real_contact,
         "jpeg_quality": cam.jpeg_quality,
     }
-    if spec.is_physical:
+    if spec.real_contact == "physical":
+        rough = ROUGHNESS_PRESETS[spec.roughness]
+        entries["physical_contact"] = {
+            "scene": "block",
+            "roughness": dataclasses.asdict(rough) | {"rms_height_m": rough.rms_height_m},
+            "optics": dataclasses.asdict(spec.optics)
+            | {"evanescent_depth_m": spec.optics.evanescent_depth_m},
+            "e_star_Pa": e_star_Pa(),
+            "solver": "tamaas PolonskyKeerRey",
+            "covered_fraction_dir": "covered_fraction",
+        }
+    elif spec.is_physical:
         setup = physical_setup(spec)
         entries["physical_contact"] = {
             "scene": spec.scene,

@@ -261,3 +261,80 @@ def test_physical_scene_validation_names_the_field():
         FootageSpec(scene="rough_pad", incidence_deg=40.0)
     with pytest.raises(ValueError, match="contact_is must be 'dark'"):
         FootageSpec(scene="rough_pad", contact_is="bright")
+
+
+# -- the sliding block with physical real contact -------------------------------------------
+@pytest.fixture(scope="module")
+def block_clip(tmp_path_factory):
+    from synthetic.footage import FootageSpec, render_footage
+
+    spec = FootageSpec(
+        preset="G3", real_contact="physical", dynamics="steady", settle_s=0.004, n_frames=40,
+        velocity_mps=4.0, seed=2,
+    )
+    out = render_footage(spec, tmp_path_factory.mktemp("phys") / "clip", progress=False)
+    return spec, out
+
+
+@needs_tamaas
+def test_physical_block_truth_is_the_solved_share_of_the_pressure_cells(block_clip):
+    import pandas as pd
+
+    from synthetic._physical import scene_contact_tile
+    from synthetic._physical_block import TILE_POINTS, level_index, level_pressures_Pa
+    from synthetic._render_tir import element_contacts, pressure_cells
+    from synthetic.footage import _Clip, _element_frame
+    from synthetic.roughness import ROUGHNESS_PRESETS
+
+    spec, out = block_clip
+    truth = pd.read_csv(out / "ground_truth.csv")
+    total = truth[truth["element"] == -1].set_index("frame")
+    # frames with the whole block in view (the pass is centred; 16 mm of travel in 40 frames)
+    clip = _Clip(spec)
+    full = [
+        k for k in range(spec.n_frames)
+        if 0 < clip.u_front(k) - 1.0 and clip.u_front(k) + 21.0 < 64.0
+    ]
+    assert len(full) >= 5
+    areas = total.loc[full, "contact_area_mm2"].to_numpy()
+    # Translation invariance: the exact bin integration moves the total by rounding only.
+    assert np.ptp(areas) < 1e-6 * areas.mean()
+    # Independent sum: every cell's length x the visible width (25.6 mm) x the solver's
+    # contact share at the cell's level. The rendered strip of each element samples its tile
+    # over 256 pixel rows (the tile is 1.28 mm wide): 5 % covers that sampling.
+    frame = _element_frame(clip.geom, clip.states, full[0])
+    contacts = element_contacts(frame, clip.contact, node_spacing_mm=clip.node_spacing_mm)
+    nodes, p_mid, elem = pressure_cells(frame, contacts)
+    rough = ROUGHNESS_PRESETS[spec.roughness]
+    levels = clip.phys_block.levels.pressure_Pa
+    assert np.allclose(levels, level_pressures_Pa(spec.pressure_bar * 1e5, p_mid.max()))
+    share = np.array(
+        [
+            scene_contact_tile(rough, TILE_POINTS, spec.seed, float(q)).contact_fraction
+            for q in levels
+        ]
+    )
+    expected = np.sum(
+        np.where(elem >= 0, share[level_index(p_mid, levels)], 0.0) * np.diff(nodes)
+    ) * 25.6
+    assert areas.mean() == pytest.approx(expected, rel=0.05)
+    assert (total.loc[full, "near_contact_area_mm2"] >= total.loc[full, "contact_area_mm2"]).all()
+
+
+@needs_tamaas
+def test_physical_block_writes_covered_fraction_of_three_frames(block_clip):
+    import pandas as pd
+    import tifffile
+
+    spec, out = block_clip
+    truth = pd.read_csv(out / "ground_truth.csv")
+    files = sorted((out / "covered_fraction").glob("frame_*.tif"))
+    assert [f.name for f in files] == ["frame_000010.tif", "frame_000020.tif", "frame_000030.tif"]
+    for f in files:
+        k = int(f.stem.split("_")[1])
+        area = truth.loc[(truth["frame"] == k) & (truth["element"] == -1), "contact_area_mm2"]
+        # the image and the truth integrate the same bins (the truth without motion blur,
+        # the covered image too): equal to float32 rounding
+        assert tifffile.imread(f).sum(dtype=np.float64) * 0.01 == pytest.approx(
+            float(area.iloc[0]), rel=1e-4
+        )
