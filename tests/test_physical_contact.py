@@ -326,7 +326,7 @@ def test_physical_block_writes_covered_fraction_of_three_frames(block_clip):
     import pandas as pd
     import tifffile
 
-    spec, out = block_clip
+    _spec, out = block_clip
     truth = pd.read_csv(out / "ground_truth.csv")
     files = sorted((out / "covered_fraction").glob("frame_*.tif"))
     assert [f.name for f in files] == ["frame_000010.tif", "frame_000020.tif", "frame_000030.tif"]
