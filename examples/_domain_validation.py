@@ -36,6 +36,9 @@ from tir_contact.analyze import AnalysisOptions, analyze_video
 OPTIONS = AnalysisOptions(overlay_frames=0, parquet=False, regions="never")
 #: Clips with less contact than this on average (mm2) get no relative area error.
 MIN_SCORED_MM2 = 1.0
+#: Physical scenes: their true contact is micro-junctions (0.01-1 mm^2 at 0.004-0.03
+#: mm/px); a clip is scored when its mean true area covers at least this many pixels.
+MIN_SCORED_PX_PHYSICAL = 25.0
 
 
 class _OutsideLit:
@@ -71,7 +74,9 @@ def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
                "white_level": spec.camera.white_level, "camera_found": res.summary["camera"],
                "warnings": "; ".join(res.summary["warnings"])}
         if spec.view == "tir":
-            row.update(_compare_tir(res, truth, lit))
+            least = (MIN_SCORED_PX_PHYSICAL * spec.camera.mm_per_px**2 if spec.is_physical
+                     else MIN_SCORED_MM2)
+            row.update(_compare_tir(res, truth, lit, least))
         else:
             row.update(_compare_side(res, truth))
         return row
@@ -79,7 +84,8 @@ def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
         shutil.rmtree(work, ignore_errors=True)
 
 
-def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None) -> dict:
+def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None,
+                 least_mm2: float = MIN_SCORED_MM2) -> dict:
     block = truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
     measured = res.frames.set_index("frame")["contact_area_mm2"].reindex(block.index)
     true_sum = float(block.sum())
@@ -88,7 +94,7 @@ def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None) -> dict:
     # no meaningful relative error: it is listed, not scored
     out = {"true_area_mm2": mean_true,
            "area_err_pct": 100 * float((measured - block).abs().sum()) / true_sum
-           if mean_true >= MIN_SCORED_MM2 else np.nan}
+           if mean_true >= least_mm2 else np.nan}
     if lit is not None:
         px2 = float(res.summary["meta"]["mm_per_px"]) ** 2
         out["outside_lit_mm2"] = lit.outside * px2

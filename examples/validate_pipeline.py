@@ -15,6 +15,13 @@ Three parts (each can be skipped):
 2. *Contact ratio G0-G7* (``--ratio``): patchy contact rendered for each reference sample
    at 1 m/s, the pipeline's steady contact ratio against the model's
    (:func:`synthetic.footage.model_contact_ratio`): within 0.05.
+2b. *Physical world* (``--physical N``, default 12 clips; needs the contact extra): clips
+   drawn by :func:`synthetic.domain.sample_physical_spec` (a rough pad or sphere whose
+   contact comes from the rough-contact solver, with frustrated-TIR grey levels,
+   sub-pixel junctions, lens blur and texture; the sliding block with physical real
+   contact), their own case classes in ``validation_physical.md``; the truth is the true
+   contact area (gap 0). No target yet: this is the world the segmentation is to be judged
+   on next.
 3. *Fixed thesis cases* (``--fixed``): the renderer's default camera (0.1 mm/px,
    640 x 256 px, 4000 frames/s, noise, motion blur, uneven illumination, bubbles and
    scratches) for G0, G3 and G7 at 1 and 3 m/s, TIR and side view:
@@ -25,7 +32,7 @@ Three parts (each can be skipped):
 * side view: median absolute error of the deflection angle (<= 0.5 deg).
 
 Run: ``python examples/validate_pipeline.py [--out validation-out] [--domain 200]
-[--seed 0] [--workers 2] [--no-ratio] [--no-fixed] [--frames 400]``.
+[--physical 12] [--seed 0] [--workers 2] [--no-ratio] [--no-fixed] [--frames 400]``.
 """
 
 from __future__ import annotations
@@ -50,7 +57,7 @@ from _domain_validation import (
 )
 
 from friction_model.geometry import reference_block
-from synthetic.domain import sample_specs
+from synthetic.domain import sample_physical_specs, sample_specs
 from synthetic.footage import FootageSpec, model_contact_ratio, render_footage
 from tir_contact.analyze import AnalysisOptions, analyze_video
 
@@ -102,9 +109,15 @@ def compare_side(res, truth: pd.DataFrame) -> dict:
     }
 
 
-def run_domain(n: int, seed: int, workers: int, out: Path) -> pd.DataFrame:
-    """Validate `n` random clips; writes the per-clip table and the summary."""
-    specs = sample_specs(n, seed=seed)
+def run_domain(n: int, seed: int, workers: int, out: Path, *, physical: bool = False
+               ) -> pd.DataFrame:
+    """Validate `n` random clips; writes the per-clip table and the summary.
+
+    ``physical``: clips of the physical world (contact mechanics and optics, their own
+    classes, written as ``validation_physical*``) instead of the real-footage domain.
+    """
+    specs = sample_physical_specs(n, seed=seed) if physical else sample_specs(n, seed=seed)
+    name = "validation_physical" if physical else "validation_domain"
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max(1, workers)) as pool:
         rows = []
@@ -114,21 +127,22 @@ def run_domain(n: int, seed: int, workers: int, out: Path) -> pd.DataFrame:
             if (i + 1) % 20 == 0:
                 print(f"  {i + 1}/{n} clips ({time.perf_counter() - t0:.0f} s)", flush=True)
     table = pd.DataFrame(rows)
-    table.to_csv(out / "validation_domain.csv", index=False)
+    table.to_csv(out / f"{name}.csv", index=False)
     summary = summarise(table)
-    summary.to_csv(out / "validation_domain_summary.csv", index=False)
-    (out / "validation_domain.md").write_text(_markdown(summary, n, seed))
+    summary.to_csv(out / f"{name}_summary.csv", index=False)
+    title = "Physical world (rough contact, FTIR optics)" if physical else None
+    (out / f"{name}.md").write_text(_markdown(summary, n, seed, title))
     return summary
 
 
-def _markdown(summary: pd.DataFrame, n: int, seed: int) -> str:
+def _markdown(summary: pd.DataFrame, n: int, seed: int, title: str | None = None) -> str:
     """The summary as the README's table (errors as defined in _domain_validation.py)."""
     cols = [("area_err_pct", "contact area error, %"), ("outside_lit_pct",
             "area outside the lit zone, %"), ("beyond_rim_pct",
             "of it more than 2 px outside, %"), ("length_err_mm", "contact length error, mm"),
             ("angle_err_deg", "angle error, deg")]
     head = "| case | clips | " + " | ".join(f"{t} (median / p95)" for _, t in cols) + " |"
-    lines = [f"Random real-footage domain, {n} clips (seed {seed}):", "", head,
+    lines = [f"{title or 'Random real-footage domain'}, {n} clips (seed {seed}):", "", head,
              "|" + "---|" * (len(cols) + 2)]
     for row in summary.to_dict("records"):
         cells = []
@@ -189,6 +203,9 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path("validation-out"))
     ap.add_argument("--domain", type=int, default=200, metavar="N",
                     help="random real-footage clips (0: skip)")
+    ap.add_argument("--physical", type=int, default=12, metavar="N",
+                    help="clips of the physical world, their own classes (0: skip; needs "
+                    "the contact extra)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--ratio", action=argparse.BooleanOptionalAction, default=True)
@@ -206,6 +223,10 @@ def main() -> None:
         print("targets:", ", ".join(
             f"{k} <= {t}: {'met' if overall.get(k, np.nan) <= t else 'NOT met'} "
             f"({overall.get(k, np.nan):.3f})" for k, t in DOMAIN_TARGETS.items()))
+    if args.physical > 0:
+        print(f"physical world: {args.physical} clips (seed {args.seed})")
+        summary = run_domain(args.physical, args.seed, args.workers, args.out, physical=True)
+        print(summary.round(3).to_string(index=False))
     if args.ratio:
         table = run_ratio(args.out)
         print("contact ratio of rendered patchy footage against the model (target 0.05):")

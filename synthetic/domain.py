@@ -70,7 +70,15 @@ import numpy as np
 from synthetic._lighting import LIT_SHAPES
 from synthetic.footage import CameraSettings, FootageSpec
 
-__all__ = ["CASE_CLASSES", "real_photo_specs", "sample_spec", "sample_specs"]
+__all__ = [
+    "CASE_CLASSES",
+    "PHYSICAL_CASE_CLASSES",
+    "real_photo_specs",
+    "sample_physical_spec",
+    "sample_physical_specs",
+    "sample_spec",
+    "sample_specs",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -301,3 +309,99 @@ def real_photo_specs(seed: int = 0, *, n_frames: int = 10) -> dict[str, FootageS
             scene="three_point", point_radius_mm=1.0, point_positions_mm=pts, **common
         ),
     }
+
+
+#: The physical case classes :func:`sample_physical_spec` draws from (equally likely):
+#: contact from the rough-contact solver and frustrated-TIR optics (needs the contact extra).
+PHYSICAL_CASE_CLASSES: tuple[str, ...] = (
+    "tir rough pad",
+    "tir rough sphere",
+    "tir physical block",
+)
+
+
+def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[FootageSpec, str]:
+    """Draw one clip of the physical world (contact mechanics and optics).
+
+    Ranges (uniform unless said): the camera, light, sensor and ice of :func:`sample_spec`
+    with the static pixel scale 0.004-0.03 mm/px for the pad and the sphere (junctions from
+    a fifth of a pixel to several pixels wide) and 0.05-0.12 mm/px for the block, rotation
+    0; roughness any of :data:`synthetic.roughness.ROUGHNESS_PRESETS`; pressure 0.5-4 bar;
+    a lens blur of 0-1.5 px; a free-surface texture of 0-0.15 (rms, correlation 0.02-0.2
+    mm) in half of the clips; substrate ice (glass in a quarter of the clips); pad radius
+    0.3-0.45 of the smaller side of the view; sphere radius 2-8 mm; 10-40 frames (static) or
+    40-80 (block, steady state).
+
+    Parameters
+    ----------
+    rng : int, numpy.random.Generator or None
+
+    Returns
+    -------
+    spec : FootageSpec
+    case_class : str
+        One of :data:`PHYSICAL_CASE_CLASSES`.
+    """
+    from synthetic.roughness import ROUGHNESS_PRESETS
+
+    rng = np.random.default_rng(rng)
+    case = PHYSICAL_CASE_CLASSES[int(rng.integers(len(PHYSICAL_CASE_CLASSES)))]
+    block = case == "tir physical block"
+    cam = _camera(rng, "tir static pad", static=True)
+    cam["rotation_deg"] = 0.0
+    cam["white_level"] /= cam["gain"]
+    old_scale = cam["mm_per_px"]
+    cam["mm_per_px"] = _u(rng, 0.05, 0.12) if block else _u(rng, 0.004, 0.03)
+    cam["optical_blur_mm"] = _u(rng, 0.0, 1.5) * cam["mm_per_px"]
+    if "lit_center_mm" in cam:  # drawn as a share of the view at the other scale
+        ratio = cam["mm_per_px"] / old_scale
+        cam["lit_center_mm"] = tuple(float(c * ratio) for c in cam["lit_center_mm"])
+    w_mm = cam["width_px"] * cam["mm_per_px"]
+    h_mm = cam["height_px"] * cam["mm_per_px"]
+    fields: dict[str, Any] = {
+        "view": "tir",
+        "pressure_bar": _u(rng, 0.5, 4.0),
+        "seed": int(rng.integers(0, 2**31)),
+        "roughness": str(rng.choice(sorted(ROUGHNESS_PRESETS))),
+        "substrate": "glass" if rng.random() < 0.25 else "ice",
+        "dynamics": "steady",
+        "settle_s": 0.004,
+    }
+    if rng.random() < 0.5:
+        fields.update(texture=_u(rng, 0.0, 0.15), texture_mm=_u(rng, 0.02, 0.2))
+    if block:
+        n_frames = int(rng.integers(40, 81))
+        velocity = _u(rng, 0.5, 3.0)
+        _timing(rng, cam, velocity, n_frames)
+        fields.update(
+            preset=str(rng.choice(_PRESETS)),
+            real_contact="physical",
+            velocity_mps=velocity,
+            n_frames=n_frames,
+            sliding_direction="left" if rng.random() < 0.5 else "right",
+        )
+        fields.pop("texture", None)
+        fields.pop("texture_mm", None)
+    else:
+        fields["n_frames"] = int(rng.integers(10, 41))
+        if case == "tir rough pad":
+            fields.update(scene="rough_pad",
+                          pad_radius_mm=_u(rng, 0.3, 0.45) * min(w_mm, h_mm))
+        else:
+            fields.update(scene="rough_sphere", sphere_radius_mm=_u(rng, 2.0, 8.0))
+    spec = FootageSpec(camera=CameraSettings(**cam), **fields)
+    return spec, case
+
+
+def sample_physical_specs(n: int, seed: int | None = 0) -> list[tuple[FootageSpec, str]]:
+    """``n`` independent draws of :func:`sample_physical_spec` from one seeded generator.
+
+    Kept apart from :func:`sample_specs` so that its draws (and the published validation
+    of the domain) stay what they were.
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+        raise TypeError(f"n must be an integer, got {type(n).__name__}: {n!r}")
+    if n < 0:
+        raise ValueError(f"n must be >= 0, got n={n!r}")
+    rng = np.random.default_rng(seed)
+    return [sample_physical_spec(rng) for _ in range(int(n))]
