@@ -3,7 +3,7 @@
 * Imports point one way: ``tir_common`` imports none of the project's packages;
   ``friction_model`` knows no images (imports neither ``tir_contact`` nor ``synthetic``);
   ``synthetic`` may use ``friction_model`` but not ``tir_contact``; ``tir_contact`` uses
-  ``synthetic`` only in the two commands that make footage (``demo``, ``synth``).
+  ``synthetic`` only where it makes data (the library's ``demo`` and the ``synth`` command).
 * No package imports a private module (``_name``) of another package.
 * Core dependencies (numpy, scipy, pandas, OpenCV, tifffile, tqdm) are imported
   at module level; only matplotlib may be imported inside a function (it costs about 0.3 s at
@@ -29,7 +29,8 @@ MAY_IMPORT = {
     "synthetic": {"tir_common", "friction_model"},
     "tir_contact": {"tir_common", "friction_model"},
 }
-FOOTAGE_COMMANDS = {"tir_contact/commands/demo.py", "tir_contact/commands/synth.py"}
+#: The two modules of tir_contact that make data: the library's demo and ``synth``.
+FOOTAGE_COMMANDS = {"tir_contact/demo.py", "tir_contact/commands/synth.py"}
 CORE = {"numpy", "scipy", "pandas", "cv2", "tifffile", "tqdm"}
 MAX_CODE_LINES = 80
 
