@@ -261,6 +261,18 @@ class EffectSpec:
         return {name: self.strength(name) for name in effect_names()
                 if name in self.strengths or get_effect(name).built_in}
 
+    def check_carried(self, kind: str) -> None:
+        """Refuse a switched-on registered effect that data of ``kind`` cannot carry (its
+        entry's ``hidden_in``): it would be silently absent. (A library effect that leaves
+        this kind unchanged, like the relaxation in a steady table, is documented there.)"""
+        for name, value in self.strengths.items():
+            effect = get_effect(name)
+            if not effect.built_in and value != 0.0 and kind not in effect.hidden_in:
+                raise ValueError(
+                    f"effect {name} is not carried by {kind} data (its registry entry hides "
+                    f"it in {', '.join(sorted(effect.hidden_in))} data only)"
+                )
+
     def apply_physics(self, conditions: pd.DataFrame, mu: np.ndarray) -> np.ndarray:
         """``mu`` with the switched-on effects that have a physics function of their own
         (registered effects, :class:`~friction_model.effect_registry.PhysicalEffect`)
@@ -559,6 +571,7 @@ def make_transient_table(
     True
     """
     spec = EffectSpec.coerce(effects)
+    spec.check_carried("transient")
     noise = check_nonnegative("noise", noise)
     for name, value in (("v1_mps", v1_mps), ("v2_mps", v2_mps), ("t_step_s", t_step_s)):
         check_positive(name, value)
@@ -724,6 +737,7 @@ def make_raw_runs(
     ('G3', ['time_s', 'velocity_mps'])
     """
     spec = EffectSpec.coerce(effects)
+    spec.check_carried("raw")
     noise = check_nonnegative("noise", noise)
     sipes = _values("n_sipes", n_sipes, integer=True)
     velocities = _values("velocities_mps", velocities_mps)

@@ -123,6 +123,17 @@ def test_toy_effect_is_offered_hidden_and_found(toy, tmp_path):
     assert param["value"] == pytest.approx(truth, rel=0.25)
 
 
+def test_toy_is_refused_where_its_entry_does_not_hide_it(toy):
+    """Its entry hides it in steady tables only: a transient table or raw runs asked for it
+    are refused, not made without it."""
+    from synthetic.measurements import make_raw_runs, make_transient_table
+
+    with pytest.raises(ValueError, match="not carried by transient data"):
+        make_transient_table(effects={"grit_ploughing": 0.01})
+    with pytest.raises(ValueError, match="not carried by raw data"):
+        make_raw_runs(effects={"grit_ploughing": 0.01})
+
+
 def test_unregistered_toy_is_unknown():
     with pytest.raises(ValueError, match="unknown effect"):
         make_steady_table(GRID, effects={"grit_ploughing": 0.01})
