@@ -1,12 +1,14 @@
-"""The demo's steps as a library function (:func:`tir_contact.commands.demo.run_demo`)."""
+"""The demo's steps as a library function (:func:`tir_contact.demo.run_demo`)."""
 
 from __future__ import annotations
+
+import json
 
 import numpy as np
 import pytest
 
 from friction_model import Conditions, DryWetParameters, friction_table, reference_block
-from tir_contact.commands.demo import run_demo
+from tir_contact.demo import HIDDEN_EFFECT, run_demo, run_hidden_effect
 
 
 @pytest.mark.slow
@@ -51,10 +53,6 @@ def test_hidden_effect_story_names_the_hidden_effect(tmp_path):
     """The demo's first story: the generator hid HIDDEN_EFFECT (the truth); the workflow,
     told nothing, names exactly it, its 95 % interval excludes the null, and the held-out gap
     falls by at least half (the issue's criterion; about 77 % with the demo's seed)."""
-    import json
-
-    from tir_contact.demo import HIDDEN_EFFECT, run_hidden_effect
-
     case = run_hidden_effect(tmp_path, seed=1)
     assert case.named == [HIDDEN_EFFECT] and case.found
     saved = json.loads((tmp_path / "discrepancy_hidden_effect.json").read_text())
