@@ -35,14 +35,13 @@ import pandas as pd
 from _common import output_folder, save_figure
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
-from friction_model.compound import (
+from friction_model.compound import REFERENCE_COMPOUND, Compound
+from friction_model.dynamics import predict_stick_slip, velocity_ramp
+from friction_model.dynamics.root import (
     MEASURED_DEFLECTION_M,
-    REFERENCE_COMPOUND,
-    Compound,
     identify_root_stiffness,
     steady_beam_column,
 )
-from friction_model.dynamics import predict_stick_slip, velocity_ramp
 from friction_model.dynamics.stick_slip import limit_cycle_run, loaded_mode_at_own_modulus_Hz
 from friction_model.dynamics.timoshenko import (
     TimoshenkoParams,

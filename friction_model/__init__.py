@@ -22,6 +22,7 @@ one per question, each with an ``__init__`` that lists its public names:
     The discrepancy workflow (steady, transient, stick-slip).
 
 At the top level stay what every room uses: the material constants (``constants``), the
+physical effects, one registry entry each (``effect_registry``), the
 rubber compound (``compound``), the conditions (``conditions``), the block geometry
 (``geometry``), the calibrated-parameter file (``params_file``), the Table 4.6 figures
 (``plots``), model selection criteria (``model_selection``) and two private helpers, the
@@ -33,6 +34,9 @@ Model inputs
     :class:`BlockGeometry`, :func:`reference_block`, :class:`Conditions`,
     :class:`DryWetParameters`, :class:`Effects`, :class:`IceProperties`,
     :class:`WaterProperties`.
+Physical effects (:mod:`friction_model.effect_registry`)
+    :class:`PhysicalEffect`, :func:`register_effect`, :func:`unregister_effect`,
+    :func:`physical_effects`, :func:`effect_names`.
 Dry/wet model (section 4.5.1), in :mod:`friction_model.contact`
     :func:`dry_run_in_length` (Eq. 4.7), :func:`flash_temperature_rise` (Eq. 4.6),
     :func:`simulate_block`, :func:`friction_table`, :func:`element_friction_table`,
@@ -97,6 +101,13 @@ from friction_model.contact.laws import (
 from friction_model.contact.water_layer import freezing_point_depression_K, initial_water_layer_m
 from friction_model.dynamics.contact import element_real_contact_fractions
 from friction_model.dynamics.element_step import StepElement, step_element, step_response
+from friction_model.effect_registry import (
+    PhysicalEffect,
+    effect_names,
+    physical_effects,
+    register_effect,
+    unregister_effect,
+)
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
 from friction_model.identification.coupling import (
     LeverArmFit,
@@ -166,6 +177,7 @@ __all__ = [
     "LeverArmFit",
     "MeasuredContact",
     "ParameterFileError",
+    "PhysicalEffect",
     "RelaxedFriction",
     "RunFormatError",
     "SteadyCharacteristic",
@@ -177,6 +189,7 @@ __all__ = [
     "contact_from_pipeline",
     "dry_run_in_length",
     "drywet_inputs",
+    "effect_names",
     "element_friction_table",
     "element_real_contact_fractions",
     "evaluate_folder",
@@ -195,16 +208,19 @@ __all__ = [
     "lever_arm_observations",
     "linear_element_response",
     "mean_friction_coefficients",
+    "physical_effects",
     "read_characteristic",
     "read_parameters",
     "read_run",
     "real_contact_fraction",
     "reference_block",
+    "register_effect",
     "simulate_block",
     "simulate_calibrated",
     "step_element",
     "step_response",
     "table_4_6_targets",
+    "unregister_effect",
     "write_outputs",
     "write_parameters",
 ]

@@ -5,6 +5,10 @@ Every writer streams: a frame goes to disk when it is rendered, nothing of the c
 in memory. All outputs are byte-for-byte deterministic for the same frames (no timestamps;
 PNG through OpenCV with a fixed compression level, TIFF through tifffile without date,
 AVI as lossless FFV1 through OpenCV's FFmpeg backend).
+
+``spec`` below is a :class:`synthetic.footage.FootageSpec`; it is annotated ``Any`` because
+that module imports this one (an import back, even for type checking only, would be a
+circle).
 """
 
 from __future__ import annotations
@@ -14,14 +18,11 @@ import json
 import logging
 import re
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import cv2
 import numpy as np
 import tifffile
-
-if TYPE_CHECKING:
-    from synthetic.footage import FootageSpec
 
 __all__ = ["FrameSink", "open_sink", "write_meta"]
 
@@ -49,7 +50,7 @@ class FrameSink:
         What ``meta.json`` records about the frame files (pattern or file name, codec).
     """
 
-    def __init__(self, out_dir: Path, fmt: str, spec: FootageSpec) -> None:
+    def __init__(self, out_dir: Path, fmt: str, spec: Any) -> None:
         self.out_dir = out_dir
         self.fmt = fmt
         self.count = 0
@@ -120,7 +121,7 @@ class FrameSink:
             self._tiff = None
 
 
-def open_sink(out_dir: Path, fmt: str, spec: FootageSpec) -> FrameSink:
+def open_sink(out_dir: Path, fmt: str, spec: Any) -> FrameSink:
     """A :class:`FrameSink` for ``fmt`` writing into ``out_dir``."""
     return FrameSink(out_dir, fmt, spec)
 
@@ -134,7 +135,7 @@ def _version() -> str:
 
 def write_meta(
     out_dir: Path,
-    spec: FootageSpec,
+    spec: Any,
     sink: FrameSink,
     *,
     truth_columns: tuple[str, ...],

@@ -38,7 +38,9 @@ import pandas as pd
 import scipy.optimize
 
 from friction_model.contact.drywet import DryWetParameters, friction_table
-from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
+from friction_model.contact.effects import DRY_WET_EFFECTS, Effects
+from friction_model.discrepancy.transient import TAU_MAX_S
+from friction_model.effect_registry import effect_names, get_effect, physical_effects
 from friction_model.geometry import BlockGeometry
 from synthetic.measurements import DEFAULT_NOISE, TAU_REF_S, SteadyGrid, make_transient_table
 from tir_common.validate import check_nonnegative, check_positive
@@ -67,13 +69,24 @@ def _grid(grid: SteadyGrid | Mapping[str, Sequence[float]] | None) -> SteadyGrid
 
 
 def _check_effect(effect: str) -> None:
-    if effect in DRY_WET_EFFECTS:
+    steady = [e.name for e in physical_effects(data="steady")]
+    if effect in steady:
         return
-    if effect in EFFECT_NAMES:
+    if effect in effect_names():
         raise ValueError(
             f"{effect} leaves steady states unchanged: its effect size on a steady table is 0"
         )
-    raise ValueError(f"unknown effect {effect!r}; steady effects are {', '.join(DRY_WET_EFFECTS)}")
+    raise ValueError(f"unknown effect {effect!r}; steady effects are {', '.join(steady)}")
+
+
+def _with_effect(
+    table: pd.DataFrame, base: DryWetParameters, mu0: np.ndarray, effect: str, strength: float
+) -> np.ndarray:
+    """mu of the table with ``effect`` alone on at ``strength``."""
+    physics = get_effect(effect).physics
+    if physics is not None:  # a registered effect acts on the base model's mu
+        return np.asarray(physics(table, mu0, strength), dtype=float)
+    return _mu(table, base.with_(effects=Effects.only(**{effect: strength})))
 
 
 def _mu(table: pd.DataFrame, params: DryWetParameters) -> np.ndarray:
@@ -99,7 +112,9 @@ def effect_size(
     Parameters
     ----------
     effect : str
-        A dry/wet effect (:data:`friction_model.contact.effects.DRY_WET_EFFECTS`).
+        An effect that steady tables carry (the dry/wet effects of
+        :data:`friction_model.contact.effects.DRY_WET_EFFECTS` and registered effects of
+        :mod:`friction_model.effect_registry`).
     strength : float
         Its strength (>= 0).
     grid : SteadyGrid or mapping, optional
@@ -145,7 +160,7 @@ def _size(
     strength = check_nonnegative("strength", strength)
     if strength == 0.0:
         return 0.0
-    mu1 = _mu(table, base.with_(effects=Effects.only(**{effect: strength})))
+    mu1 = _with_effect(table, base, mu0, effect, strength)
     if absorb == "none":
         return float(np.sqrt(np.mean((mu1 / mu0 - 1.0) ** 2)))
     a = mu0 / mu1  # the base's fit: min over c of sum((1 - c a)^2), relative residuals
@@ -238,8 +253,12 @@ def strength_for_effect_size(
 
 #: Largest strength searched per transient effect: the upper bounds of the workflow's
 #: candidates (relaxation tau <= ``TAU_MAX_S`` = 0.2 s = 10 x ``TAU_REF_S``; modulus
-#: strength <= 5), so a found strength can be fitted back.
-TRANSIENT_STRENGTH_MAX = {"friction_relaxation": 10.0, "frequency_dependent_modulus": 5.0}
+#: strength <= 5, the registry's bound), so a found strength can be fitted back.
+TRANSIENT_STRENGTH_MAX = {
+    e.name: (TAU_MAX_S / TAU_REF_S if e.parameter.unit == "s" else e.parameter.upper)
+    for e in physical_effects(data="transient")
+    if e.name not in DRY_WET_EFFECTS
+}
 # geometric scan of the transient size before the root is bracketed (the size is not
 # monotone in the strength: a very slow lag is absorbed by the level after the step)
 _TRANSIENT_SCAN = 24

@@ -88,6 +88,7 @@ from friction_model.dynamics import (
     velocity_step,
 )
 from friction_model.dynamics.rigid import REFERENCE_YOUNGS_MODULUS_PA
+from friction_model.effect_registry import get_effect
 from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
 from synthetic._camera import (
     Sensor,
@@ -527,7 +528,8 @@ class FootageSpec:
         in [0, ``duration_s``]; required with ``velocity_step_to_mps`` and only with it.
     friction_relaxation_s : float
         Time constant tau of the friction's lag behind its steady law (Eq. 5.12, as
-        :class:`friction_model.contact.laws.RelaxedFriction`), s, in [0, 1]; 0 (the default) uses
+        :class:`friction_model.contact.laws.RelaxedFriction`), s, in [0, 1] (the bounds of
+        ``friction_relaxation`` in :mod:`friction_model.effect_registry`); 0 (the default) uses
         the steady law. The model starts (``settle_s`` before frame 0) with mu at its
         steady value.
     scene : {"block", "round_pad", "coin", "three_point"}
@@ -853,11 +855,14 @@ class FootageSpec:
         return TRUTH_COLUMNS
 
     def _check_step(self, put: Any) -> None:
-        """Validate the velocity step and the friction relaxation (Eq. 5.12) fields."""
+        """Validate the velocity step and the friction relaxation (Eq. 5.12) fields (tau in
+        the bounds of the registry's ``friction_relaxation``)."""
+        tau = get_effect("friction_relaxation").parameter
         put(
             "friction_relaxation_s",
             check_number(
-                "friction_relaxation_s", self.friction_relaxation_s, low=0.0, high=1.0, unit="s"
+                "friction_relaxation_s", self.friction_relaxation_s, low=tau.lower,
+                high=tau.upper, unit="s"
             ),
         )
         if self.velocity_step_to_mps is None:

@@ -1,7 +1,8 @@
 """Synthetic test-rig measurement data with switchable, unannounced physical effects.
 
 Three kinds of data, each made from the friction model with a chosen set of named effects
-(:data:`friction_model.contact.effects.EFFECT_NAMES`) switched on at a chosen strength, so that a
+(the entries of :mod:`friction_model.effect_registry`; each entry's ``hiding`` says how these
+generators put it in the data) switched on at a chosen strength, so that a
 data set can contain an effect without saying so:
 
 * ``steady``: a steady friction characteristic table over a grid of velocity, pressure,
@@ -60,7 +61,7 @@ import pandas as pd
 import scipy.signal
 
 from friction_model.contact.drywet import DryWetParameters, friction_table
-from friction_model.contact.effects import DRY_WET_EFFECTS, EFFECT_NAMES, Effects
+from friction_model.contact.effects import DRY_WET_EFFECTS, Effects
 from friction_model.dynamics import velocity_step
 from friction_model.dynamics.element_step import (
     MODULUS_ALPHA,
@@ -78,6 +79,7 @@ from friction_model.dynamics.rigid import (
     REFERENCE_LOSS_FACTOR,
     REFERENCE_YOUNGS_MODULUS_PA,
 )
+from friction_model.effect_registry import effect_names, get_effect
 from friction_model.geometry import REFERENCE_SAMPLES
 from synthetic.rig import make_raw_run, write_run_csv
 from tir_common.atomic import json_safe
@@ -171,8 +173,9 @@ class EffectSpec:
     ----------
     strengths : mapping of str to float, optional
         Effect name -> strength (>= 0; 0 = off, 1 = calibrated physics). Names not given are
-        off. Valid names: :data:`friction_model.contact.effects.EFFECT_NAMES`;
-        ``ice_preheating`` must
+        off. Valid names: those of :mod:`friction_model.effect_registry`
+        (:func:`~friction_model.effect_registry.effect_names`: the six library effects and any
+        registered one, whose strength is the value of its parameter); ``ice_preheating`` must
         lie in [0, 1].
 
     Raises
@@ -197,15 +200,16 @@ class EffectSpec:
                 "strengths must be a mapping of effect name to strength, "
                 f"got {type(self.strengths).__name__}"
             )
-        unknown = sorted(str(k) for k in self.strengths if k not in EFFECT_NAMES)
+        names = effect_names()
+        unknown = sorted(str(k) for k in self.strengths if k not in names)
         if unknown:
             raise ValueError(
                 f"unknown effect(s) {', '.join(unknown)}; valid effects are "
-                f"{', '.join(EFFECT_NAMES)}"
+                f"{', '.join(names)}"
             )
         clean = {
             name: check_nonnegative(name, self.strengths[name])
-            for name in EFFECT_NAMES
+            for name in names
             if name in self.strengths
         }
         # validates the dry/wet strengths (ice_preheating <= 1) with Effects' own message
@@ -228,9 +232,9 @@ class EffectSpec:
 
     def strength(self, name: str) -> float:
         """Strength of effect ``name`` (0 when off)."""
-        if name not in EFFECT_NAMES:
+        if name not in effect_names():
             raise ValueError(
-                f"unknown effect {name!r}; valid effects are {', '.join(EFFECT_NAMES)}"
+                f"unknown effect {name!r}; valid effects are {', '.join(effect_names())}"
             )
         return float(self.strengths.get(name, 0.0))
 
@@ -252,8 +256,33 @@ class EffectSpec:
         return self.strength("frequency_dependent_modulus")
 
     def as_dict(self) -> dict[str, float]:
-        """Every effect name -> strength, 0 for those off (in EFFECT_NAMES order)."""
-        return {name: self.strength(name) for name in EFFECT_NAMES}
+        """Every library effect and every effect switched on -> strength, 0 for those off
+        (in registry order)."""
+        return {name: self.strength(name) for name in effect_names()
+                if name in self.strengths or get_effect(name).built_in}
+
+    def check_carried(self, kind: str) -> None:
+        """Refuse a switched-on registered effect that data of ``kind`` cannot carry (its
+        entry's ``hidden_in``): it would be silently absent. (A library effect that leaves
+        this kind unchanged, like the relaxation in a steady table, is documented there.)"""
+        for name, value in self.strengths.items():
+            effect = get_effect(name)
+            if not effect.built_in and value != 0.0 and kind not in effect.hidden_in:
+                raise ValueError(
+                    f"effect {name} is not carried by {kind} data (its registry entry hides "
+                    f"it in {', '.join(sorted(effect.hidden_in))} data only)"
+                )
+
+    def apply_physics(self, conditions: pd.DataFrame, mu: np.ndarray) -> np.ndarray:
+        """``mu`` with the switched-on effects that have a physics function of their own
+        (registered effects, :class:`~friction_model.effect_registry.PhysicalEffect`)
+        applied in turn; the library effects are in the model already."""
+        out = np.asarray(mu, dtype=float)
+        for name, value in self.strengths.items():
+            effect = get_effect(name)
+            if effect.physics is not None and value != effect.parameter.null:
+                out = np.asarray(effect.physics(conditions, out, value), dtype=float)
+        return out
 
 
 # -- validation helpers ----------------------------------------------------------------------
@@ -414,7 +443,8 @@ def make_steady_table(
     Notes
     -----
     ``friction_relaxation`` and ``frequency_dependent_modulus`` do not change steady states;
-    with them alone the table equals the base model.
+    with them alone the table equals the base model. A registered effect changes the
+    model's mu through its ``physics`` function.
 
     Examples
     --------
@@ -435,7 +465,7 @@ def make_steady_table(
         raise TypeError(f"grid must be a SteadyGrid, a mapping or None, got {type(grid).__name__}")
     gen = np.random.default_rng(rng)
     table = grid.frame()
-    mu_model = _model_mu(table, _params(spec, params))
+    mu_model = spec.apply_physics(table, _model_mu(table, _params(spec, params)))
     # per-run relative scatter sqrt(n) * noise, so the mean of n runs has relative std noise
     eps = gen.standard_normal((len(table), n_repeats)) * (noise * math.sqrt(n_repeats))
     table["mu"] = mu_model * (1.0 + eps.mean(axis=1))
@@ -541,6 +571,7 @@ def make_transient_table(
     True
     """
     spec = EffectSpec.coerce(effects)
+    spec.check_carried("transient")
     noise = check_nonnegative("noise", noise)
     for name, value in (("v1_mps", v1_mps), ("v2_mps", v2_mps), ("t_step_s", t_step_s)):
         check_positive(name, value)
@@ -706,6 +737,7 @@ def make_raw_runs(
     ('G3', ['time_s', 'velocity_mps'])
     """
     spec = EffectSpec.coerce(effects)
+    spec.check_carried("raw")
     noise = check_nonnegative("noise", noise)
     sipes = _values("n_sipes", n_sipes, integer=True)
     velocities = _values("velocities_mps", velocities_mps)

@@ -18,12 +18,11 @@ from friction_model.compound import (
     REFERENCE_COMPOUND,
     Compound,
     gent_youngs_modulus,
-    identify_root_stiffness,
-    steady_beam_column,
 )
 from friction_model.contact.laws import ArctanExponentialLaw
 from friction_model.dynamics import EulerBernoulliParams, velocity_ramp
 from friction_model.dynamics.rigid import BlockParams, SdofParams
+from friction_model.dynamics.root import identify_root_stiffness, steady_beam_column
 from friction_model.dynamics.timoshenko import TimoshenkoParams, simulate_timoshenko
 
 LAW = ArctanExponentialLaw(k1=0.17, k2=0.2256, k3=-0.569, k4=50.0)

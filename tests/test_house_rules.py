@@ -3,7 +3,7 @@
 * Imports point one way: ``tir_common`` imports none of the project's packages;
   ``friction_model`` knows no images (imports neither ``tir_contact`` nor ``synthetic``);
   ``synthetic`` may use ``friction_model`` but not ``tir_contact``; ``tir_contact`` uses
-  ``synthetic`` only in the two commands that make footage (``demo``, ``synth``).
+  ``synthetic`` only where it makes data (the library's ``demo`` and the ``synth`` command).
 * No package imports a private module (``_name``) of another package.
 * Core dependencies (numpy, scipy, pandas, OpenCV, tifffile, tqdm) are imported
   at module level; only matplotlib may be imported inside a function (it costs about 0.3 s at
@@ -29,7 +29,8 @@ MAY_IMPORT = {
     "synthetic": {"tir_common", "friction_model"},
     "tir_contact": {"tir_common", "friction_model"},
 }
-FOOTAGE_COMMANDS = {"tir_contact/commands/demo.py", "tir_contact/commands/synth.py"}
+#: The two modules of tir_contact that make data: the library's demo and ``synth``.
+FOOTAGE_COMMANDS = {"tir_contact/demo.py", "tir_contact/commands/synth.py"}
 CORE = {"numpy", "scipy", "pandas", "cv2", "tifffile", "tqdm"}
 MAX_CODE_LINES = 80
 
@@ -113,3 +114,68 @@ def test_no_function_is_long_without_a_reason():
 @pytest.mark.parametrize("name", ["LICENSE", "docs/architecture.md"])
 def test_repository_files_exist(name):
     assert (ROOT / name).is_file()
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def _import_graph() -> dict[str, set[str]]:
+    """Project module -> project modules it imports anywhere (module level, inside a function,
+    under ``TYPE_CHECKING``): ``from a.b import c`` is an edge to ``a.b.c`` when that is a
+    module, else to ``a.b``; relative imports are resolved against the importing package."""
+    modules = {_module_name(p): p for p in _sources()}
+    graph: dict[str, set[str]] = {name: set() for name in modules}
+    for name, path in modules.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            targets: list[str] = []
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                    base = ".".join([*anchor, *([base] if base else [])])
+                targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in modules else base
+                           for a in node.names]
+            graph[name].update(t for t in targets if t in modules and t != name)
+    return graph
+
+
+def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
+    """One import circle of ``graph`` (a depth-first search), or None."""
+    state: dict[str, int] = {}
+    stack: list[str] = []
+
+    def visit(node: str) -> list[str] | None:
+        state[node] = 1
+        stack.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                return [*stack[stack.index(nxt):], nxt]
+            if nxt not in state and (found := visit(nxt)) is not None:
+                return found
+        stack.pop()
+        state[node] = 2
+        return None
+
+    for start in sorted(graph):
+        if start not in state and (found := visit(start)) is not None:
+            return found
+    return None
+
+
+def test_cycle_finder_sees_a_circle():
+    assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
+    assert _cycle({"a": {"b"}, "b": {"c"}, "c": set()}) is None
+
+
+def test_no_import_circles():
+    """No two modules import each other, directly or round a longer circle, not even through
+    a function-local or type-checking import (those only hide a circle)."""
+    circle = _cycle(_import_graph())
+    assert circle is None, "import circle: " + " -> ".join(circle or [])

@@ -5,7 +5,8 @@ Public API (imported lazily so that ``tir-contact --help`` stays fast)
 Footage readers (:mod:`tir_contact.io`)
     :func:`open_footage`, :class:`FootageReader`, :class:`FrameFolderReader`,
     :class:`MultiPageTiffReader`, :class:`VideoFileReader`, :class:`MrawReader`,
-    :class:`CineReader`, :class:`ArrayReader`, :class:`FootageError`.
+    :class:`CineReader`, :class:`ArrayReader`, :class:`FootageError`; the readers' registry
+    :func:`register_reader`, :func:`unregister_reader`, :func:`readers`.
 Metadata (:mod:`tir_contact.meta`)
     :func:`load_meta`.
 Reference and segmentation (:mod:`tir_contact.flatfield`, :mod:`tir_contact.segment`)
@@ -18,6 +19,8 @@ Features (:mod:`tir_contact.features`, :mod:`tir_contact.side`)
 Whole videos and batches (:mod:`tir_contact.analyze`, :mod:`tir_contact.batch`)
     :func:`analyze_video`, :class:`AnalysisOptions`, :class:`VideoAnalysis`,
     :func:`find_footage`, :func:`analyze_batch`, :class:`BatchReport`.
+The demo (:mod:`tir_contact.demo`)
+    :func:`run_demo`, :class:`DemoResult`.
 
 The friction model and the test-rig evaluation are in the sibling package
 :mod:`friction_model`; synthetic data in :mod:`synthetic`.
@@ -64,6 +67,11 @@ _LAZY = {
     "BatchReport": "tir_contact.batch",
     "analyze_batch": "tir_contact.batch",
     "find_footage": "tir_contact.batch",
+    "readers": "tir_contact.io",
+    "register_reader": "tir_contact.io",
+    "unregister_reader": "tir_contact.io",
+    "DemoResult": "tir_contact.demo",
+    "run_demo": "tir_contact.demo",
 }
 
 __all__ = ["__version__", *sorted(_LAZY)]

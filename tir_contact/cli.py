@@ -53,16 +53,18 @@ class Command:
     data_errors : tuple of exception types
         Errors the command reports as "the data cannot be used" (exit code 1); other
         ValueError, OSError and KeyError are usage errors (exit code 2).
+    module : str, optional
+        The command's module when it is not ``tir_contact.commands.NAME`` (a plug-in).
     """
 
     help: str
     data_errors: tuple[type[BaseException], ...] = ()
-
+    module: str | None = None
 
 
 def _command_module(name: str) -> ModuleType:
     """The module of the sub-command `name` (imported only when the command is given)."""
-    return importlib.import_module(f"tir_contact.commands.{name}")
+    return importlib.import_module(COMMANDS[name].module or f"tir_contact.commands.{name}")
 
 
 #: The sub-commands in the order of ``tir-contact --help``.

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import abc
 import contextlib
+import inspect
 import logging
 import os
 import re
@@ -70,6 +71,9 @@ __all__ = [
     "VideoFileReader",
     "load_meta",
     "open_footage",
+    "readers",
+    "register_reader",
+    "unregister_reader",
 ]
 
 #: Suffixes (lower case) of video files read through OpenCV.
@@ -77,58 +81,91 @@ VIDEO_SUFFIXES: tuple[str, ...] = (".avi", ".mp4", ".mov", ".mkv")
 
 
 class FootageReader(abc.ABC):
-    """Random-access, streaming reader of grey frames.
+    """Random-access, streaming reader of grey frames: the interface every reader follows.
 
-    Subclasses implement :meth:`_read` (one frame by index) and set ``_length``,
-    ``_frame_shape``, ``_dtype``, ``_frame_rate`` and ``_bit_depth`` when opened. A reader
-    whose footage numbers its frames (file names, container time stamps) sets
-    ``_frame_numbers``; a container that claims more frames than it holds intact sets
-    ``_lost_frames`` and reads the intact ones.
+    A reader declares which footage it reads (:attr:`suffixes`, :attr:`reads_folders`, or
+    its own :meth:`claims`), implements :meth:`_read` (one frame by index) and the public
+    properties ``__len__``, :attr:`frame_shape`, :attr:`dtype` and :attr:`frame_rate`;
+    :attr:`bit_depth`, :attr:`frame_numbers` and :attr:`lost_frames` have defaults (the
+    storage bits, ``0, 1, 2, ...``, none) that a reader overrides when its footage knows
+    better. :func:`register_reader` adds it to the readers :func:`open_footage` chooses
+    from. Everything else (index checks, size and type checks of every frame, iteration,
+    ``close`` and ``with``) is done here.
 
     Attributes
     ----------
     path : Path or None
         The footage (file or folder); None for in-memory frames.
+
+    Examples
+    --------
+    A reader of ``.npy`` stacks is one class (registered, ``open_footage`` picks it by
+    suffix)::
+
+        @register_reader
+        class NpyReader(FootageReader):
+            kind = "npy"
+            suffixes = (".npy",)
+
+            def __init__(self, path):
+                super().__init__(path)
+                self._frames = np.load(path, mmap_mode="r")
+
+            def __len__(self):
+                return len(self._frames)
+
+            frame_shape = property(lambda self: self._frames.shape[1:])
+            dtype = property(lambda self: self._frames.dtype)
+            frame_rate = property(lambda self: None)
+
+            def _read(self, index):
+                return np.array(self._frames[index])
     """
 
     #: Short name used in :func:`open_footage` (``kind=``) and in messages.
     kind: ClassVar[str] = ""
+    #: File suffixes (lower case, with the dot) this reader reads; :meth:`claims` uses them.
+    suffixes: ClassVar[tuple[str, ...]] = ()
+    #: Whether this reader reads a folder (then :meth:`claims` takes every folder).
+    reads_folders: ClassVar[bool] = False
 
     def __init__(self, path: str | os.PathLike[str] | None) -> None:
         self.path = None if path is None else Path(path)
         self._closed = False
-        self._length = 0
-        self._frame_shape: tuple[int, int] = (0, 0)
-        self._dtype = np.dtype(np.uint8)
-        self._frame_rate: float | None = None
-        self._bit_depth = 8
-        self._frame_numbers: np.ndarray | None = None
-        self._lost_frames: tuple[int, ...] = ()
+
+    @classmethod
+    def claims(cls, path: Path) -> bool:
+        """Whether ``path`` is footage of this reader's type (by default: a folder for a
+        folder reader, else the file suffix is one of :attr:`suffixes`)."""
+        if cls.reads_folders:
+            return path.is_dir()
+        return path.suffix.lower() in cls.suffixes
 
     # --- interface -------------------------------------------------------------------------
+    @abc.abstractmethod
     def __len__(self) -> int:
         """Number of frames."""
-        return self._length
 
     @property
+    @abc.abstractmethod
     def frame_shape(self) -> tuple[int, int]:
         """Shape ``(H, W)`` of every frame in pixels."""
-        return self._frame_shape
 
     @property
+    @abc.abstractmethod
     def dtype(self) -> np.dtype[Any]:
         """Pixel type of the frames: uint8 or uint16."""
-        return self._dtype
 
     @property
+    @abc.abstractmethod
     def frame_rate(self) -> float | None:
         """Frame rate in Hz from the footage header, or None when the footage has none."""
-        return self._frame_rate
 
     @property
     def bit_depth(self) -> int:
-        """Effective bits per pixel, e.g. 12 for 12-bit camera data held in uint16."""
-        return self._bit_depth
+        """Effective bits per pixel, e.g. 12 for 12-bit camera data held in uint16
+        (default: the storage bits of :attr:`dtype`)."""
+        return int(np.dtype(self.dtype).itemsize * 8)
 
     @property
     def frame_numbers(self) -> np.ndarray:
@@ -138,9 +175,7 @@ class FootageReader(abc.ABC):
         the number in each file name, so a missing file leaves a gap (``..., 9, 20, ...``)
         and the frame's time is ``frame_number / frame_rate``.
         """
-        if self._frame_numbers is None:
-            return np.arange(self._length, dtype=np.int64)
-        return self._frame_numbers.copy()
+        return np.arange(len(self), dtype=np.int64)
 
     @property
     def lost_frames(self) -> tuple[int, ...]:
@@ -149,7 +184,7 @@ class FootageReader(abc.ABC):
         Empty for intact footage. The readable frames are still read; an analysis of footage
         with lost frames is reported as partial.
         """
-        return self._lost_frames
+        return ()
 
     @property
     def closed(self) -> bool:
@@ -185,16 +220,17 @@ class FootageReader(abc.ABC):
         if not 0 <= index < n:
             raise IndexError(f"frame index out of range: got {i}, footage has {n} frames")
         frame = self._read(index)
-        if frame.shape != self._frame_shape:
+        shape = tuple(self.frame_shape)
+        if frame.shape != shape:
             raise FootageError(
                 f"{self._frame_name(index)}: frame size {size_text(frame.shape)} differs from "
-                f"the first frame's {size_text(self._frame_shape)}",
+                f"the first frame's {size_text(shape)}",
                 self.path,
             )
-        if frame.dtype != self._dtype:
+        if frame.dtype != self.dtype:
             raise FootageError(
                 f"{self._frame_name(index)}: pixel type {frame.dtype} differs from the first "
-                f"frame's {self._dtype}",
+                f"frame's {self.dtype}",
                 self.path,
             )
         return frame
@@ -212,7 +248,7 @@ class FootageReader(abc.ABC):
 
     def close(self) -> None:
         """Release the file handles; further reads raise :class:`FootageError`."""
-        if not self._closed:
+        if not getattr(self, "_closed", True):
             self._closed = True
             self._release()
 
@@ -234,11 +270,13 @@ class FootageReader(abc.ABC):
             pass
 
     def __repr__(self) -> str:
-        rate = "unknown fps" if self._frame_rate is None else f"{self._frame_rate:g} fps"
-        return (
-            f"<{type(self).__name__} {self._name()}: {len(self)} frames, "
-            f"{size_text(self._frame_shape)}, {self._bit_depth}-bit, {rate}>"
-        )
+        try:
+            rate = "unknown fps" if self.frame_rate is None else f"{self.frame_rate:g} fps"
+            what = (f"{len(self)} frames, {size_text(self.frame_shape)}, {self.bit_depth}-bit, "
+                    f"{rate}")
+        except Exception:  # a reader that failed to open
+            what = "not open"
+        return f"<{type(self).__name__} {self._name()}: {what}>"
 
     # --- for subclasses -------------------------------------------------------------------
     @abc.abstractmethod
@@ -255,6 +293,58 @@ class FootageReader(abc.ABC):
         """How a frame is named in messages."""
         return f"{self._name()} (frame {index})"
 
+
+class _StoredFormat(FootageReader):
+    """Base of the built-in readers: the interface's properties from fields set on opening
+    (``_length``, ``_frame_shape``, ``_dtype``, ``_frame_rate``, ``_bit_depth``, optionally
+    ``_frame_numbers`` and ``_lost_frames``; :meth:`_set_format` records the first frame's)."""
+
+    def __init__(self, path: str | os.PathLike[str] | None) -> None:
+        super().__init__(path)
+        self._length = 0
+        self._frame_shape: tuple[int, int] = (0, 0)
+        self._dtype = np.dtype(np.uint8)
+        self._frame_rate: float | None = None
+        self._bit_depth = 8
+        self._frame_numbers: np.ndarray | None = None
+        self._lost_frames: tuple[int, ...] = ()
+
+    def __len__(self) -> int:
+        """Number of frames."""
+        return self._length
+
+    @property
+    def frame_shape(self) -> tuple[int, int]:
+        """Shape ``(H, W)`` of every frame in pixels."""
+        return self._frame_shape
+
+    @property
+    def dtype(self) -> np.dtype[Any]:
+        """Pixel type of the frames: uint8 or uint16."""
+        return self._dtype
+
+    @property
+    def frame_rate(self) -> float | None:
+        """Frame rate in Hz from the footage header, or None when the footage has none."""
+        return self._frame_rate
+
+    @property
+    def bit_depth(self) -> int:
+        """Effective bits per pixel, e.g. 12 for 12-bit camera data held in uint16."""
+        return self._bit_depth
+
+    @property
+    def frame_numbers(self) -> np.ndarray:
+        """Recorded frame number of each readable frame (see :class:`FootageReader`)."""
+        if self._frame_numbers is None:
+            return np.arange(self._length, dtype=np.int64)
+        return self._frame_numbers.copy()
+
+    @property
+    def lost_frames(self) -> tuple[int, ...]:
+        """Frame numbers the container claims but cannot deliver (cut short or corrupt)."""
+        return self._lost_frames
+
     def _set_format(self, first: np.ndarray, *, bit_depth: int | None = None) -> None:
         """Record shape and dtype from the first frame."""
         self._frame_shape = (int(first.shape[0]), int(first.shape[1]))
@@ -263,7 +353,7 @@ class FootageReader(abc.ABC):
         self._bit_depth = storage if bit_depth is None else int(min(max(bit_depth, 1), storage))
 
 
-class ArrayReader(FootageReader):
+class ArrayReader(_StoredFormat):
     """Frames held in memory: a ``(N, H, W)`` or ``(N, H, W, C)`` array or a list of frames.
 
     For tests and for library users who already have the frames.
@@ -314,7 +404,7 @@ class ArrayReader(FootageReader):
         return np.array(to_grey(image, order="rgb"), copy=True)
 
 
-class FrameFolderReader(FootageReader):
+class FrameFolderReader(_StoredFormat):
     """A folder of single-image files, one frame per file, in natural order.
 
     Parameters
@@ -341,6 +431,7 @@ class FrameFolderReader(FootageReader):
     """
 
     kind = "folder"
+    reads_folders = True
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
@@ -415,7 +506,7 @@ def _file_numbers(files: Sequence[Path]) -> np.ndarray | None:
     return out
 
 
-class MultiPageTiffReader(FootageReader):
+class MultiPageTiffReader(_StoredFormat):
     """A TIFF file holding one frame per page (a single-page TIFF is a 1-frame video).
 
     Parameters
@@ -433,6 +524,7 @@ class MultiPageTiffReader(FootageReader):
     """
 
     kind = "tiff"
+    suffixes = (".tif", ".tiff")
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
@@ -609,7 +701,7 @@ def _imagej_rate(tif: Any) -> float | None:
     return None
 
 
-class VideoFileReader(FootageReader):
+class VideoFileReader(_StoredFormat):
     """A video file decoded by OpenCV (``.avi``, ``.mp4``, ``.mov``, ``.mkv``).
 
     Parameters
@@ -627,6 +719,7 @@ class VideoFileReader(FootageReader):
     """
 
     kind = "video"
+    suffixes = VIDEO_SUFFIXES
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
@@ -706,7 +799,7 @@ class VideoFileReader(FootageReader):
         self._cap.release()
 
 
-class MrawReader(FootageReader):
+class MrawReader(_StoredFormat):
     """Photron MRAW footage: ``.mraw`` data with its ``.cihx`` or ``.cih`` header.
 
     Parameters
@@ -739,12 +832,12 @@ class MrawReader(FootageReader):
     """
 
     kind = "mraw"
-    _SUFFIXES: ClassVar[tuple[str, ...]] = (".mraw", ".cihx", ".cih")
+    suffixes = (".mraw", ".cihx", ".cih")
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
         file = Path(path)
-        if file.suffix.lower() not in self._SUFFIXES:
+        if file.suffix.lower() not in self.suffixes:
             raise FootageError(f"{file}: not a Photron file (.mraw, .cihx or .cih)", file)
         header = next(
             (c for c in (file.with_suffix(".cihx"), file.with_suffix(".cih")) if c.is_file()),
@@ -831,7 +924,7 @@ class MrawReader(FootageReader):
         self._data = None  # type: ignore[assignment]
 
 
-class CineReader(FootageReader):
+class CineReader(_StoredFormat):
     """Vision Research Phantom ``.cine`` footage.
 
     Parameters
@@ -865,6 +958,7 @@ class CineReader(FootageReader):
     """
 
     kind = "cine"
+    suffixes = (".cine",)
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         super().__init__(path)
@@ -964,21 +1058,80 @@ class CineReader(FootageReader):
             os.close(fd)
 
 
-#: Reader classes in the order :func:`open_footage` tries them.
-READERS: tuple[type[FootageReader], ...] = (
-    FrameFolderReader,
-    MultiPageTiffReader,
-    VideoFileReader,
-    MrawReader,
-    CineReader,
-)
+_REGISTRY: dict[str, type[FootageReader]] = {}
 
-_CLAIMS: dict[type[FootageReader], tuple[str, ...]] = {
-    MultiPageTiffReader: (".tif", ".tiff"),
-    VideoFileReader: VIDEO_SUFFIXES,
-    MrawReader: (".mraw", ".cihx", ".cih"),
-    CineReader: (".cine",),
-}
+
+def register_reader(
+    cls: type[FootageReader], *, replace: bool = False
+) -> type[FootageReader]:
+    """Add a reader class to those :func:`open_footage` chooses from (usable as a decorator).
+
+    Parameters
+    ----------
+    cls : type
+        A :class:`FootageReader` subclass with a ``kind`` and suffixes (or its own
+        ``claims``); tried after the readers registered before it.
+    replace : bool
+        Allow replacing the reader of the same ``kind``.
+
+    Returns
+    -------
+    type
+        ``cls``.
+
+    Raises
+    ------
+    TypeError
+        Not a concrete FootageReader subclass.
+    ValueError
+        No ``kind``, or a ``kind`` already registered (without ``replace``).
+    """
+    if not (isinstance(cls, type) and issubclass(cls, FootageReader)):
+        raise TypeError(f"a reader must be a FootageReader subclass, got {cls!r}")
+    if inspect.isabstract(cls):
+        missing = ", ".join(sorted(cls.__abstractmethods__))
+        raise TypeError(f"reader {cls.__name__} does not implement {missing}")
+    if not cls.kind:
+        raise ValueError(f"reader {cls.__name__} needs a kind (its short name)")
+    if cls.kind in _REGISTRY and not replace:
+        raise ValueError(f"a reader of kind {cls.kind!r} is already registered "
+                         f"({_REGISTRY[cls.kind].__name__}); pass replace=True")
+    _REGISTRY[cls.kind] = cls
+    return cls
+
+
+def unregister_reader(kind: str) -> None:
+    """Remove the reader of ``kind`` (KeyError naming the registered kinds otherwise)."""
+    if kind not in _REGISTRY:
+        raise KeyError(f"no reader of kind {kind!r}; registered: {', '.join(_REGISTRY)}")
+    del _REGISTRY[kind]
+
+
+def readers() -> tuple[type[FootageReader], ...]:
+    """The registered reader classes in the order :func:`open_footage` tries them."""
+    return tuple(_REGISTRY.values())
+
+
+class _ReaderTable(Sequence[type[FootageReader]]):
+    """A live, read-only view of the registered readers (``READERS``)."""
+
+    def __getitem__(self, index):  # type: ignore[override]
+        return readers()[index]
+
+    def __len__(self) -> int:
+        return len(_REGISTRY)
+
+    def __repr__(self) -> str:
+        return f"READERS{readers()!r}"
+
+
+for _reader in (FrameFolderReader, MultiPageTiffReader, VideoFileReader, MrawReader,
+                CineReader):
+    register_reader(_reader)
+
+#: Reader classes in the order :func:`open_footage` tries them: a live view of the registry
+#: (:func:`register_reader`, :func:`readers`).
+READERS: Sequence[type[FootageReader]] = _ReaderTable()
 
 
 def open_footage(path: str | os.PathLike[str], *, kind: str | None = None) -> FootageReader:
@@ -989,7 +1142,7 @@ def open_footage(path: str | os.PathLike[str], *, kind: str | None = None) -> Fo
     path : str or os.PathLike
         A folder of frames, a ``.tif``/``.tiff`` stack, a video (``.avi``, ``.mp4``,
         ``.mov``, ``.mkv``), a Photron ``.mraw``/``.cihx``/``.cih`` or a Phantom ``.cine``.
-    kind : {"folder", "tiff", "video", "mraw", "cine"}, optional
+    kind : {"folder", "tiff", "video", "mraw", "cine"} or a registered kind, optional
         Force a reader instead of choosing by file type.
 
     Returns
@@ -1001,23 +1154,21 @@ def open_footage(path: str | os.PathLike[str], *, kind: str | None = None) -> Fo
     ------
     FootageError
         When the path does not exist, or no reader can read it: one line listing each
-        tried reader's reason. The reader of the file's own type is tried first; for an
-        unknown suffix every file reader is tried.
+        tried reader's reason. The readers that claim the path (:meth:`FootageReader.claims`)
+        are tried in registry order; when none does, every file reader is tried.
     """
     path = Path(path)
     if not path.exists():
         raise FootageError(f"{path}: does not exist", path)
     if kind is not None:
-        by_kind = {cls.kind: cls for cls in READERS}
-        if kind not in by_kind:
-            raise ValueError(f"kind must be one of {sorted(by_kind)}, got {kind=}")
-        return by_kind[kind](path)
-    if path.is_dir():
-        return FrameFolderReader(path)
-    suffix = path.suffix.lower()
-    candidates = [cls for cls, suffixes in _CLAIMS.items() if suffix in suffixes]
+        if kind not in _REGISTRY:
+            raise ValueError(f"kind must be one of {sorted(_REGISTRY)}, got {kind=}")
+        return _REGISTRY[kind](path)
+    candidates = [cls for cls in readers() if cls.claims(path)]
+    if not candidates and path.is_dir():
+        raise FootageError(f"{path}: no reader reads this folder", path)
     if not candidates:
-        candidates = [cls for cls in READERS if cls is not FrameFolderReader]
+        candidates = [cls for cls in readers() if not cls.reads_folders]
     if len(candidates) == 1:
         return candidates[0](path)  # the file's own type: its reader's message says most
     reasons: list[str] = []

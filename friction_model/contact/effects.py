@@ -1,5 +1,8 @@
 """Named, switchable physical effects of the friction model.
 
+The effects themselves (parameters, bounds, caps, how the data hide them) are the entries of
+:mod:`friction_model.effect_registry`; the names here derive from it.
+
 The base model is the dry run-in / wet model of section 4.5.1 with every effect at strength
 0; each effect is a named part on top of it with a strength (0 = off, reduces exactly to the
 base model; 1 = the calibrated physics; other values scale it). The synthetic-data generator
@@ -29,19 +32,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields, replace
 
+from friction_model.effect_registry import LIBRARY_EFFECTS
+
 __all__ = ["DRY_WET_EFFECTS", "EFFECT_NAMES", "Effects"]
 
-DRY_WET_EFFECTS: tuple[str, ...] = (
-    "humidity_water_layer",
-    "salinity_melting_point",
-    "ice_preheating",
-    "viscous_shear",
-)
-EFFECT_NAMES: tuple[str, ...] = (
-    *DRY_WET_EFFECTS,
-    "friction_relaxation",
-    "frequency_dependent_modulus",
-)
+#: The library's steady effects, built into the dry/wet model (a strength field of
+#: :class:`Effects` each).
+DRY_WET_EFFECTS: tuple[str, ...] = tuple(e.name for e in LIBRARY_EFFECTS if e.kind == "steady")
+#: The six library effects (registered ones: ``effect_registry.effect_names()``).
+EFFECT_NAMES: tuple[str, ...] = tuple(e.name for e in LIBRARY_EFFECTS)
 
 
 @dataclass(frozen=True)
@@ -106,3 +105,11 @@ class Effects:
     def as_dict(self) -> dict[str, float]:
         """Effect name -> strength."""
         return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+if tuple(f.name for f in fields(Effects)) != DRY_WET_EFFECTS:  # pragma: no cover - a new
+    # steady library effect needs its strength field here and its physics in the march
+    raise ImportError(
+        f"Effects fields {[f.name for f in fields(Effects)]} differ from the registry's "
+        f"steady library effects {DRY_WET_EFFECTS}"
+    )

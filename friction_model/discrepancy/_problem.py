@@ -3,14 +3,14 @@
 A *problem* is measured data plus a base model that can be extended by named candidate
 effects (:class:`Problem`). A *candidate* is a model extension with one or two bounded,
 physically signed parameters that reduces exactly to the base model at its null value
-(:class:`Candidate`, :class:`ParameterSpec`). The six effects of
-:data:`friction_model.contact.effects.EFFECT_NAMES` form the library; users add their own with
-:func:`register_candidate`.
+(:class:`Candidate`, :class:`ParameterSpec`). Every physical effect of
+:mod:`friction_model.effect_registry` is a candidate (the six library effects and any effect
+registered there with its physics); a candidate that is no physical effect of the toolkit
+(a trend, a data-specific correction) is added with :func:`register_candidate`.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
@@ -18,7 +18,8 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import pandas as pd
 
-from friction_model.contact.effects import EFFECT_NAMES
+from friction_model.effect_registry import ParameterSpec, PhysicalEffect, physical_effects
+from friction_model.effect_registry import get_effect as _get_effect
 
 __all__ = [
     "Apply",
@@ -74,59 +75,6 @@ class Problem(Protocol):
     def predict(self, base: np.ndarray, effects: Mapping[str, tuple[float, ...]]) -> np.ndarray:
         """Model prediction for all n rows."""
         ...
-
-
-@dataclass(frozen=True)
-class ParameterSpec:
-    """One bounded, physically signed parameter of a candidate effect.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name (``strength``, ``tau_s``, ...).
-    unit : str
-        Unit (``"1"`` for dimensionless).
-    null : float
-        The value at which the candidate reduces exactly to the model without it; inside
-        ``[lower, upper]``, usually one of the bounds (the physical sign).
-    lower, upper : float
-        Bounds, ``lower < upper``.
-
-    Examples
-    --------
-    >>> ParameterSpec("strength", "1", null=0.0, lower=0.0, upper=1.0).span
-    1.0
-    """
-
-    name: str
-    unit: str
-    null: float
-    lower: float
-    upper: float
-
-    def __post_init__(self) -> None:
-        for label in ("null", "lower", "upper"):
-            value = float(getattr(self, label))
-            if not math.isfinite(value):
-                raise ValueError(
-                    f"ParameterSpec {self.name!r}: {label} must be finite, got {value}"
-                )
-            object.__setattr__(self, label, value)
-        if not self.lower < self.upper:
-            raise ValueError(
-                f"ParameterSpec {self.name!r}: lower must be < upper, got "
-                f"lower={self.lower}, upper={self.upper}"
-            )
-        if not self.lower <= self.null <= self.upper:
-            raise ValueError(
-                f"ParameterSpec {self.name!r}: null={self.null} must lie in "
-                f"[{self.lower}, {self.upper}]"
-            )
-
-    @property
-    def span(self) -> float:
-        """``upper - lower``."""
-        return self.upper - self.lower
 
 
 @dataclass(frozen=True)
@@ -189,63 +137,33 @@ class Candidate:
 #: prediction of the model without it (must return ``prediction`` unchanged at the null).
 Apply = Callable[[Problem, np.ndarray, tuple[float, ...]], np.ndarray]
 
-_STRENGTH = "strength"
-_LIBRARY: tuple[Candidate, ...] = (
-    Candidate(
-        "friction_relaxation",
-        (ParameterSpec("tau_s", "s", 0.0, 0.0, 1.0),),
-        "First-order lag of the friction coefficient after a velocity change, "
-        "tau dmu/dt + mu = mu_ss(v) (Eq. 5.12); tau = 0 is the instantaneous law.",
-        frozenset({"transient"}),
-        "the deflection angle through a velocity step at a high frame rate (the lag of "
-        "friction behind the step)",
-    ),
-    Candidate(
-        "humidity_water_layer",
-        (ParameterSpec(_STRENGTH, "1", 0.0, 0.0, 20.0),),
-        "The bound water layer on the ice grows with relative humidity (section 4.5.1); "
-        "strength scales the calibrated growth (1 = saturated air triples the layer).",
-        frozenset({"steady", "transient"}),
-        "mu at low and high relative humidity on the same ice at the same temperature",
-    ),
-    Candidate(
-        "salinity_melting_point",
-        (ParameterSpec(_STRENGTH, "1", 0.0, 0.0, 10.0),),
-        "Salt lowers the melting point of the ice surface (section 4.5.2); strength scales "
-        "the surface-brine enrichment.",
-        frozenset({"steady", "transient"}),
-        "mu on fresh-water ice against saline ice at the same temperature",
-    ),
-    Candidate(
-        "ice_preheating",
-        (ParameterSpec(_STRENGTH, "1", 0.0, 0.0, 1.0),),
-        "Each element meets the heat history of the elements ahead of it; the sipe lets "
-        "the ice cool (Fig. 4.25); strength is the share of that history, in [0, 1].",
-        frozenset({"steady", "transient"}),
-        "mu of blocks with and without sipes (G0 against G3) under the same conditions",
-    ),
-    Candidate(
-        "viscous_shear",
-        (ParameterSpec(_STRENGTH, "1", 0.0, 0.0, 20.0),),
-        "Viscous shear of the melt-water film, eta v / h (Eq. 4.3); strength scales it.",
-        frozenset({"steady", "transient"}),
-        "mu over sliding velocity close to the melting point (e.g. -1 degC, 1-5 m/s)",
-    ),
-    Candidate(
-        "frequency_dependent_modulus",
-        (ParameterSpec(_STRENGTH, "1", 0.0, 0.0, 5.0),),
-        "The rubber modulus rises with excitation frequency, E(f) = E0 (1 + strength alpha "
-        "log10(f / f0)) (end of section 5.3.2).",
-        frozenset({"transient"}),
-        "the ringing or stick-slip frequency of the element against its simulated natural "
-        "frequency",
-    ),
-)
+def _effect_candidate(effect: PhysicalEffect) -> Candidate:
+    """The candidate of a registry entry."""
+    return Candidate(effect.name, (effect.parameter,), effect.description, effect.problems,
+                     effect.distinguishing_measurement)
 
-_REGISTRY: dict[str, Candidate] = {c.name: c for c in _LIBRARY}
+
+def _effect_apply(effect: PhysicalEffect) -> Apply:
+    """``apply`` of a registered effect: its physics on the problem's covariates."""
+    physics = effect.physics
+    assert physics is not None
+
+    def apply(problem: Problem, prediction: np.ndarray, params: tuple[float, ...]) -> np.ndarray:
+        return np.asarray(physics(problem.covariates, prediction, float(params[0])), float)
+
+    return apply
+
+
+def _effect(name: str) -> PhysicalEffect | None:
+    try:
+        return _get_effect(name)
+    except KeyError:
+        return None
+
+
+# candidates that are not physical effects of the registry (users' trends and corrections)
+_REGISTRY: dict[str, Candidate] = {}
 _APPLY: dict[str, Apply] = {}
-_LIBRARY_NAMES = frozenset(c.name for c in _LIBRARY)
-assert _LIBRARY_NAMES == set(EFFECT_NAMES)
 
 
 def register_candidate(
@@ -256,8 +174,9 @@ def register_candidate(
     Parameters
     ----------
     candidate : Candidate
-        The effect. Its name must be new unless ``replace``; the six library names
-        cannot be replaced.
+        The effect. Its name must be new unless ``replace``; the names of physical effects
+        (:func:`friction_model.effect_registry.effect_names`) cannot be replaced: a physical
+        effect is added there, with its physics, and is then a candidate by itself.
     apply : callable, optional
         ``apply(problem, prediction, params) -> prediction``: how the effect changes the
         prediction of the model without it, for problems whose ``effect_names`` do not
@@ -292,8 +211,9 @@ def register_candidate(
     if apply is not None and not callable(apply):
         raise TypeError(f"apply must be callable, got {type(apply).__name__}")
     name = candidate.name
-    if name in _LIBRARY_NAMES:
-        raise ValueError(f"candidate {name!r} is a library effect and cannot be replaced")
+    if _effect(name) is not None:
+        raise ValueError(f"candidate {name!r} is a library effect (an entry of "
+                         "friction_model.effect_registry) and cannot be replaced")
     if name in _REGISTRY and not replace:
         raise ValueError(f"candidate {name!r} is already registered; pass replace=True")
     _REGISTRY[name] = candidate
@@ -305,9 +225,10 @@ def register_candidate(
 
 
 def unregister_candidate(name: str) -> None:
-    """Remove a user candidate (library effects stay)."""
-    if name in _LIBRARY_NAMES:
-        raise ValueError(f"candidate {name!r} is a library effect and cannot be removed")
+    """Remove a user candidate (physical effects stay: ``unregister_effect`` removes those)."""
+    if _effect(name) is not None:
+        raise ValueError(f"candidate {name!r} is a library effect (an entry of "
+                         "friction_model.effect_registry) and cannot be removed here")
     if name not in _REGISTRY:
         raise KeyError(f"no candidate named {name!r}; registered: {sorted(_REGISTRY)}")
     del _REGISTRY[name]
@@ -315,27 +236,36 @@ def unregister_candidate(name: str) -> None:
 
 
 def get_candidate(name: str) -> Candidate:
-    """The registered candidate ``name`` (KeyError listing the names otherwise)."""
+    """The candidate ``name`` (KeyError listing the names otherwise)."""
+    effect = _effect(name)
+    if effect is not None:
+        return _effect_candidate(effect)
     try:
         return _REGISTRY[name]
     except KeyError:
-        raise KeyError(f"no candidate named {name!r}; registered: {sorted(_REGISTRY)}") from None
+        names = [c.name for c in candidates()]
+        raise KeyError(f"no candidate named {name!r}; registered: {sorted(names)}") from None
 
 
 def candidate_apply(name: str) -> Apply | None:
-    """The ``apply`` function of a user candidate (None for problem-native ones)."""
+    """The ``apply`` function of a user candidate or of a registered effect's physics (None
+    for the library effects, which the problems evaluate natively)."""
+    effect = _effect(name)
+    if effect is not None:
+        return None if effect.physics is None else _effect_apply(effect)
     return _APPLY.get(name)
 
 
 def candidates(kind: str | None = None) -> tuple[Candidate, ...]:
-    """The registered candidates (library first), optionally only those for ``kind``.
+    """The candidates (physical effects first, library first), optionally only for ``kind``.
 
     Examples
     --------
     >>> [c.name for c in candidates("steady")][:2]
     ['humidity_water_layer', 'salinity_melting_point']
     """
-    found: Iterable[Candidate] = _REGISTRY.values()
+    found: Iterable[Candidate] = [
+        *(_effect_candidate(e) for e in physical_effects()), *_REGISTRY.values()]
     if kind is not None:
         found = [c for c in found if kind in c.kinds]
     return tuple(found)

@@ -37,12 +37,9 @@ import pandas as pd
 import scipy.optimize
 from scipy.interpolate import PchipInterpolator
 
-from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.discrepancy._problem import get_candidate
 from friction_model.discrepancy.transient import MODULUS, RELAXATION, relaxation_and_modulus
 from friction_model.dynamics.element_step import (
-    MODULUS_ALPHA,
-    MODULUS_F0_HZ,
     modulus_scaled_frequency_Hz,
 )
 from friction_model.dynamics.stick_slip import (
@@ -50,6 +47,7 @@ from friction_model.dynamics.stick_slip import (
     PREDICTED_EXTRA_MODULUS_HZ,
     PREDICTED_STICK_SLIP_HZ,
 )
+from friction_model.effect_registry import PLAUSIBLE_LOSS_FACTOR_MAX, get_effect
 
 __all__ = [
     "PLAUSIBLE_EXTRA_MODULUS_STRENGTH",
@@ -65,28 +63,11 @@ __all__ = [
     "thesis_stick_slip_problem",
 ]
 
-#: Upper end of a tread compound's loss factor near 0 degC (``friction_model.dynamics.rigid``:
-#: typically 0.15-0.3).
-PLAUSIBLE_LOSS_FACTOR_MAX = 0.3
-
-
-def _extra_strength_of_loss_factor(loss_factor: float, frequency_Hz: float = 1500.0) -> float:
-    """Extra ``frequency_dependent_modulus`` strength that turns the reference compound's
-    E(f) into that of a compound with ``loss_factor``, at ``frequency_Hz``.
-
-    Both are causal constant-loss solids, E(f) ~ f^n with tan(delta) = tan(n pi / 2); the
-    extra factor (f / f0)^(n - n_ref) is matched by 1 + s alpha log10(f / f0).
-    """
-    ref = REFERENCE_COMPOUND
-    n_extra = Compound(loss_factor=loss_factor).modulus_exponent - ref.modulus_exponent
-    ratio = (frequency_Hz / ref.reference_frequency_Hz) ** n_extra
-    return (ratio - 1.0) / (MODULUS_ALPHA * math.log10(frequency_Hz / MODULUS_F0_HZ))
-
-
 #: Largest additional strength of ``frequency_dependent_modulus`` on top of the one-rubber
 #: prediction (which has the compound's own E(f), tan(delta) = 0.2): that of a compound with
-#: tan(delta) = 0.3 at the rig's 1.5 kHz, 0.60.
-PLAUSIBLE_EXTRA_MODULUS_STRENGTH = _extra_strength_of_loss_factor(PLAUSIBLE_LOSS_FACTOR_MAX)
+#: tan(delta) = ``PLAUSIBLE_LOSS_FACTOR_MAX`` = 0.3 at the rig's 1.5 kHz, 0.60 (the effect's
+#: ``plausible_max`` in :mod:`friction_model.effect_registry`).
+PLAUSIBLE_EXTRA_MODULUS_STRENGTH = get_effect(MODULUS).plausible_max
 
 #: Stick-slip frequency filmed at the HiLiTe rig, Hz (section 5.3.2).
 THESIS_MEASURED_HZ = 1500.0

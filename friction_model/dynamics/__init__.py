@@ -17,7 +17,9 @@ Timoshenko beam (section 5.3)
     :class:`TimoshenkoParams`, :func:`simulate_timoshenko`, :func:`static_tip_deflection`,
     :func:`natural_frequencies_timoshenko`, :func:`fdm_natural_frequencies`,
     :func:`lever_arm`, :func:`preload_for_normal_force`, :func:`cowper_shear_coefficient`,
-    :func:`beam_column_static`, :func:`buckling_load`, :func:`fdm_buckling_load`.
+    :func:`beam_column_static`, :func:`buckling_load`, :func:`fdm_buckling_load`;
+    the elastic root from the measured deflection (:mod:`~friction_model.dynamics.root`):
+    :func:`identify_root_stiffness`, :func:`steady_beam_column`.
 Contact ratio and sweeps
     :func:`reference_contact_ratios`, :func:`run_sweep`, :func:`parameter_grid`,
     :func:`timoshenko_point`, :func:`dry_wet_point`.
@@ -45,6 +47,12 @@ from friction_model.dynamics.rigid import (
     simulate_block_dynamics,
     simulate_sdof,
 )
+from friction_model.dynamics.root import (
+    MEASURED_DEFLECTION_M,
+    RootIdentification,
+    identify_root_stiffness,
+    steady_beam_column,
+)
 from friction_model.dynamics.solver import SolverOptions
 from friction_model.dynamics.stick_slip import predict_stick_slip
 from friction_model.dynamics.sweep import (
@@ -68,8 +76,10 @@ from friction_model.dynamics.timoshenko import (
 )
 
 __all__ = [
+    "MEASURED_DEFLECTION_M",
     "BlockParams",
     "EulerBernoulliParams",
+    "RootIdentification",
     "SdofParams",
     "SimulationError",
     "SimulationResult",
@@ -85,6 +95,7 @@ __all__ = [
     "element_surface_profiles",
     "fdm_buckling_load",
     "fdm_natural_frequencies",
+    "identify_root_stiffness",
     "lever_arm",
     "natural_frequencies_timoshenko",
     "parameter_grid",
@@ -97,6 +108,7 @@ __all__ = [
     "simulate_sdof",
     "simulate_timoshenko",
     "static_tip_deflection",
+    "steady_beam_column",
     "surface_profile",
     "timoshenko_point",
     "velocity_ramp",

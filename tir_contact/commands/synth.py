@@ -102,14 +102,16 @@ def _int_list(text: str) -> tuple[int, ...]:
 
 
 def _effect(text: str) -> tuple[str, float | None]:
-    """argparse type of ``--effect NAME[=X]`` (the model is imported only when one is given)."""
-    from friction_model.contact.effects import EFFECT_NAMES
+    """argparse type of ``--effect NAME[=X]``: a name of the effect registry
+    (:func:`friction_model.effect_registry.effect_names`, registered effects included; the
+    model is imported only when one is given)."""
+    from friction_model.effect_registry import effect_names
 
     name, sep, value = text.partition("=")
     name = name.strip()
-    if name not in EFFECT_NAMES:
+    if name not in effect_names():
         raise argparse.ArgumentTypeError(
-            f"unknown effect {name!r}; valid effects are {', '.join(EFFECT_NAMES)}"
+            f"unknown effect {name!r}; valid effects are {', '.join(effect_names())}"
         )
     return name, (_non_negative(value) if sep else None)
 
