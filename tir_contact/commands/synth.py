@@ -177,15 +177,31 @@ def _add_footage(sub: Any) -> None:
                       help="a sliding block (default) or a static contact; rough_pad and "
                       "rough_sphere: contact from a rough-contact solver and TIR optics "
                       "(needs the contact extra); a load series is a loop over --pressure")
-    real.add_argument("--real-contact", choices=("solid", "patchy"),
-                      help="patchy: micro-contact patches with the friction model's share")
+    real.add_argument("--real-contact", choices=("solid", "patchy", "physical"),
+                      help="patchy: micro-contact patches with the friction model's share; "
+                      "physical: rough faces in the solved contact (contact extra)")
     real.add_argument("--follow-camera", action="store_const", const=True, default=None,
                       help="the camera moves with the block")
     real.add_argument("--pad-radius", type=_positive, metavar="MM",
                       help="round_pad / rough_pad radius, mm")
     real.add_argument("--texture", type=_non_negative, metavar="F",
                       help="rms light texture of the free surface, fraction (e.g. 0.1)")
-    phys = p.add_argument_group("physical scenes (rough_pad, rough_sphere)")
+    _add_physical(p)
+    cond = p.add_argument_group("conditions (default: the renderer's)")
+    cond.add_argument("--pressure", type=_positive, metavar="BAR", help="nominal pressure, bar")
+    cond.add_argument("--temperature", type=_number, metavar="C", help="ice temperature, degC")
+    cond.add_argument("--humidity", type=_non_negative, metavar="PCT", help="rel. humidity, %%")
+    cond.add_argument("--salinity", type=_non_negative, metavar="PCT", help="salinity, %%")
+    cond.add_argument(
+        "--sliding-direction", metavar="DIR", help="sliding direction (renderer's values)"
+    )
+    cond.add_argument("--contact-is", metavar="LOOK", help="how contact looks, e.g. bright or dark")
+
+
+def _add_physical(p: argparse.ArgumentParser) -> None:
+    """Options of the physical scenes (contact mechanics and optics)."""
+    phys = p.add_argument_group("physical contact (rough_pad, rough_sphere, --real-contact "
+                                "physical)")
     phys.add_argument("--roughness", metavar="NAME",
                       help="rough surface: abraded_rubber (default), moulded_rubber, "
                       "sandblasted_elastomer, rough_ice")
@@ -197,15 +213,6 @@ def _add_footage(sub: Any) -> None:
                       help="what fills the gap (default air)")
     phys.add_argument("--optical-blur", type=_non_negative, metavar="MM",
                       help="lens point-spread standard deviation, mm (default 0)")
-    cond = p.add_argument_group("conditions (default: the renderer's)")
-    cond.add_argument("--pressure", type=_positive, metavar="BAR", help="nominal pressure, bar")
-    cond.add_argument("--temperature", type=_number, metavar="C", help="ice temperature, degC")
-    cond.add_argument("--humidity", type=_non_negative, metavar="PCT", help="rel. humidity, %%")
-    cond.add_argument("--salinity", type=_non_negative, metavar="PCT", help="salinity, %%")
-    cond.add_argument(
-        "--sliding-direction", metavar="DIR", help="sliding direction (renderer's values)"
-    )
-    cond.add_argument("--contact-is", metavar="LOOK", help="how contact looks, e.g. bright or dark")
 
 
 def _add_measurements(sub: Any) -> None:
