@@ -345,3 +345,30 @@ def test_physical_block_writes_covered_fraction_of_three_frames(block_clip):
         assert tifffile.imread(f).sum(dtype=np.float64) * 0.01 == pytest.approx(
             float(area.iloc[0]), rel=1e-4
         )
+
+
+def test_synth_rough_pad_without_the_solver_says_so_in_one_line(run_cli, capsys, monkeypatch,
+                                                                 tmp_path):
+    monkeypatch.setitem(sys.modules, "tamaas", None)  # as if the extra were not installed
+    code = run_cli(["synth", "footage", "--scene", "rough_pad", "--frames", "2",
+                    "--out", tmp_path / "clip"])
+    err = capsys.readouterr().err.strip()
+    assert code == 1
+    assert err.count("\n") == 0 and 'pip install "tir-contact[contact]"' in err
+
+
+@needs_tamaas
+def test_synth_rough_pad_load_series_from_the_command_line(run_cli, capsys, tmp_path):
+    import pandas as pd
+
+    areas = []
+    for p in ("1", "2"):
+        code = run_cli(["synth", "footage", "--scene", "rough_pad", "--pressure", p,
+                        "--pad-radius", "0.5", "--mm-per-px", "0.01", "--width", "128",
+                        "--height", "128", "--frames", "1", "--out", tmp_path / p])
+        assert code == 0
+        truth = pd.read_csv(tmp_path / p / "ground_truth.csv")
+        areas.append(float(truth.loc[truth["element"] == -1, "contact_area_mm2"].iloc[0]))
+    assert "rough_pad scene" in capsys.readouterr().out
+    # twice the load, about twice the true area (A ~ p^0.9-1: 1.87-2.0)
+    assert areas[1] / areas[0] == pytest.approx(2.0, rel=0.1)
