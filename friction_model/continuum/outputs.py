@@ -1,0 +1,191 @@
+"""What a beam model and the TIR pipeline can be checked against, from one solved element.
+
+* the sections along the depth: deflection r(y) (the section's mean x displacement),
+  rotation phi(y) of the deformed section (its least-squares line), slope alpha(y) of the
+  deformed centre line, shear gamma = alpha - phi (the bending / shear split of Fig. 5.15);
+* the face: contact pressure, contact length, rear lift-off (``l - contact length``, as the
+  pipeline's ``liftoff_mm``), the pressure at the leading edge and the lever arm e of the
+  normal resultant (positive in front of the deformed face centre, towards the leading
+  edge, as e of Eq. 5.20-5.22).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import pandas as pd
+
+from friction_model.continuum.state import ElementState
+
+__all__ = ["ElementOutputs", "element_outputs", "face_contact", "section_profile"]
+
+#: Width of the leading band over which the front-edge pressure is averaged, m (about
+#: the TIR camera's resolution of a peak; the corner pressure itself is singular).
+FRONT_BAND_M = 0.5e-3
+
+
+def section_profile(state: ElementState, *, n_sections: int = 61, n_across: int = 21) -> pd.DataFrame:
+    """Deflection, section rotation, centre-line slope and shear along the depth.
+
+    Parameters
+    ----------
+    state : ElementState
+    n_sections : int
+        Heights from the root (y = 0) to the face (y = d).
+    n_across : int
+        Points across each section.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``y_m, deflection_m, rotation_rad, slope_rad, shear_rad``; positive rotation and
+        slope lean the element towards +x (the beam's phi and alpha).
+    """
+    spec = state.mesh.spec
+    half = 0.5 * spec.length_m * (1 - 1e-9)
+    ys = np.linspace(0.0, spec.height_m * (1 - 1e-9), n_sections)
+    xs = np.linspace(-half, half, n_across)
+    X, Y = np.meshgrid(xs, ys)
+    P = state.mesh.basis_u.probes(np.vstack([X.ravel(), Y.ravel()]))
+    uv = P @ state.displacement
+    ux = uv[: X.size].reshape(X.shape)
+    uy = uv[X.size :].reshape(X.shape)
+    xd, yd = X + ux, Y + uy
+    r = ux.mean(axis=1)
+    xc = xs - xs.mean()
+    # the deformed section's direction (cov(x, x_def), cov(x, y_def)); the element leans +x
+    # when the section turns clockwise (y_def falls with x)
+    rotation = np.arctan2(-(yd - yd.mean(axis=1, keepdims=True)) @ xc,
+                          (xd - xd.mean(axis=1, keepdims=True)) @ xc)
+    dx = np.gradient(xd.mean(axis=1), ys, edge_order=2)
+    dy = np.gradient(yd.mean(axis=1), ys, edge_order=2)
+    slope = np.arctan2(dx, dy)
+    return pd.DataFrame({"y_m": ys, "deflection_m": r, "rotation_rad": rotation,
+                         "slope_rad": slope, "shear_rad": slope - rotation})
+
+
+def face_contact(state: ElementState) -> dict[str, float]:
+    """Contact length, lift-off, leading-edge pressure and lever arm of the face, SI units.
+
+    The contact ends half-way between the last node in contact and the first one off it
+    (the nodes' deformed x); the lever arm is the deformed face centre minus the point of
+    action of the normal resultant.
+
+    Returns
+    -------
+    dict
+        ``contact_length_m, liftoff_m, front_lift_m, rear_lift_m, lever_arm_m,
+        mean_pressure_Pa, front_pressure_Pa, front_pressure_ratio, peak_pressure_Pa``.
+    """
+    em = state.mesh
+    x = em.face_x_m + state.face_ux_m
+    w = em.face_weights_m
+    lam = state.face_force_N_per_m
+    act = np.flatnonzero(state.active)
+    if act.size == 0:
+        raise ValueError("the face is not in contact with the ice")
+    i0, i1 = int(act[0]), int(act[-1])
+    lead = x[0] if i0 == 0 else 0.5 * (x[i0 - 1] + x[i0])
+    trail = x[-1] if i1 == x.size - 1 else 0.5 * (x[i1] + x[i1 + 1])
+    length = trail - lead
+    centre = float(np.sum(w * state.face_ux_m) / em.spec.length_m)
+    x_n = float(np.sum(lam * x) / lam.sum())
+    p = state.face_pressure_Pa
+    band = (x >= lead) & (x <= lead + FRONT_BAND_M)
+    front = float(np.sum(lam[band]) / np.sum(w[band]))
+    mean = float(lam.sum() / length)
+    return {
+        "contact_length_m": float(length),
+        "liftoff_m": float(max(0.0, em.spec.length_m - length)),
+        "front_lift_m": float(lead - x[0]),
+        "rear_lift_m": float(x[-1] - trail),
+        "lever_arm_m": centre - x_n,
+        "mean_pressure_Pa": mean,
+        "front_pressure_Pa": front,
+        "front_pressure_ratio": front / mean,
+        "peak_pressure_Pa": float(p.max()),
+    }
+
+
+@dataclass(frozen=True)
+class ElementOutputs:
+    """The numbers of one solved element (SI units; see :func:`element_outputs`)."""
+
+    model: str
+    normal_force_N: float
+    mu: float
+    tip_deflection_m: float
+    tip_slope_rad: float
+    bending_rad: float
+    max_rotation_rad: float
+    shear_rad: float
+    indentation_m: float
+    contact_length_m: float
+    liftoff_m: float
+    rear_lift_m: float
+    lever_arm_m: float
+    mean_pressure_Pa: float
+    front_pressure_Pa: float
+    front_pressure_ratio: float
+    peak_pressure_Pa: float
+
+    def as_row(self) -> dict[str, float | str]:
+        """The table row in mm and deg (the names of ``continuum_vs_beam.csv``)."""
+        return {
+            "model": self.model,
+            "tip_deflection_mm": self.tip_deflection_m * 1e3,
+            "tip_slope_deg": math.degrees(self.tip_slope_rad),
+            "bending_deg": math.degrees(self.bending_rad),
+            "max_rotation_deg": math.degrees(self.max_rotation_rad),
+            "lever_arm_mm": self.lever_arm_m * 1e3,
+            "contact_length_mm": self.contact_length_m * 1e3,
+            "liftoff_mm": self.liftoff_m * 1e3,
+            "front_pressure_ratio": self.front_pressure_ratio,
+        }
+
+    def as_dict(self) -> dict[str, float | str]:
+        """All fields."""
+        return asdict(self)
+
+
+def element_outputs(state: ElementState) -> ElementOutputs:
+    """Tip deflection, slope, bending / shear, contact and lever arm of a solved element.
+
+    The tip deflection is the face's mean x displacement (exact integral of the P2 trace);
+    tip slope, bending angle (section rotation) and shear are those of the section at the
+    face, as r(d), alpha(d), phi(d) and gamma(d) of the beam (Fig. 5.15).
+
+    Parameters
+    ----------
+    state : ElementState
+        A solution on the ice.
+
+    Returns
+    -------
+    ElementOutputs
+    """
+    em = state.mesh
+    prof = section_profile(state)
+    tip = prof.iloc[-1]
+    contact = face_contact(state)
+    return ElementOutputs(
+        model=state.model,
+        normal_force_N=state.normal_force_N,
+        mu=state.mu,
+        tip_deflection_m=float(np.sum(em.face_weights_m * state.face_ux_m) / em.spec.length_m),
+        tip_slope_rad=float(tip["slope_rad"]),
+        bending_rad=float(tip["rotation_rad"]),
+        max_rotation_rad=float(prof["rotation_rad"].max()),
+        shear_rad=float(tip["shear_rad"]),
+        indentation_m=state.indentation_m,
+        contact_length_m=contact["contact_length_m"],
+        liftoff_m=contact["liftoff_m"],
+        rear_lift_m=contact["rear_lift_m"],
+        lever_arm_m=contact["lever_arm_m"],
+        mean_pressure_Pa=contact["mean_pressure_Pa"],
+        front_pressure_Pa=contact["front_pressure_Pa"],
+        front_pressure_ratio=contact["front_pressure_ratio"],
+        peak_pressure_Pa=contact["peak_pressure_Pa"],
+    )
