@@ -27,7 +27,8 @@ __all__ = ["FACE_MOTIONS", "modal_frequencies", "own_modulus_frequency_Hz"]
 FACE_MOTIONS = ("sliding", "stuck", "free")
 
 
-def modal_frequencies(state: ElementState, *, face: str = "sliding", n_modes: int = 3) -> np.ndarray:
+def modal_frequencies(state: ElementState, *, face: str = "sliding",
+                      n_modes: int = 3) -> np.ndarray:
     """Lowest natural frequencies of the element about ``state``, Hz.
 
     Parameters

@@ -26,7 +26,8 @@ __all__ = ["ElementOutputs", "element_outputs", "face_contact", "section_profile
 FRONT_BAND_M = 0.5e-3
 
 
-def section_profile(state: ElementState, *, n_sections: int = 61, n_across: int = 21) -> pd.DataFrame:
+def section_profile(state: ElementState, *, n_sections: int = 61,
+                    n_across: int = 21) -> pd.DataFrame:
     """Deflection, section rotation, centre-line slope and shear along the depth.
 
     Parameters
@@ -66,11 +67,30 @@ def section_profile(state: ElementState, *, n_sections: int = 61, n_across: int 
                          "slope_rad": slope, "shear_rad": slope - rotation})
 
 
+def _separation(x: np.ndarray, gap: np.ndarray, i: int, step: int) -> float:
+    """Where the face leaves the ice beyond the last node ``i`` in contact, m.
+
+    Near a smooth separation point x_e the gap opens as (x - x_e)^(3/2) (the elastic
+    solution at a receding contact edge with zero pressure there); the two nodes after
+    ``i`` give x_e from (g1 / g2)^(2/3) = (x1 - x_e) / (x2 - x_e), kept between ``x[i]``
+    and ``x[i + step]``. A face corner in contact is the end itself.
+    """
+    j1, j2 = i + step, i + 2 * step
+    if not 0 <= j1 < x.size:
+        return float(x[i])
+    if not 0 <= j2 < x.size or gap[j2] <= gap[j1] or gap[j1] <= 0:
+        return float(0.5 * (x[i] + x[j1]))
+    q = (gap[j1] / gap[j2]) ** (2.0 / 3.0)
+    xe = (x[j1] - q * x[j2]) / (1.0 - q)
+    lo, hi = sorted((float(x[i]), float(x[j1])))
+    return float(np.clip(xe, lo, hi))
+
+
 def face_contact(state: ElementState) -> dict[str, float]:
     """Contact length, lift-off, leading-edge pressure and lever arm of the face, SI units.
 
-    The contact ends half-way between the last node in contact and the first one off it
-    (the nodes' deformed x); the lever arm is the deformed face centre minus the point of
+    The contact ends where the gap of the nodes off the ice extrapolates to zero
+    (:func:`_separation`; the nodes' deformed x); the lever arm is the deformed face centre minus the point of
     action of the normal resultant.
 
     Returns
@@ -86,9 +106,9 @@ def face_contact(state: ElementState) -> dict[str, float]:
     act = np.flatnonzero(state.active)
     if act.size == 0:
         raise ValueError("the face is not in contact with the ice")
-    i0, i1 = int(act[0]), int(act[-1])
-    lead = x[0] if i0 == 0 else 0.5 * (x[i0 - 1] + x[i0])
-    trail = x[-1] if i1 == x.size - 1 else 0.5 * (x[i1] + x[i1 + 1])
+    gap = -(state.face_uy_m + state.indentation_m)  # distance from the ice, >= 0 off it
+    lead = _separation(x, gap, int(act[0]), -1)
+    trail = _separation(x, gap, int(act[-1]), +1)
     length = trail - lead
     centre = float(np.sum(w * state.face_ux_m) / em.spec.length_m)
     x_n = float(np.sum(lam * x) / lam.sum())
