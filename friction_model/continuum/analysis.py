@@ -68,7 +68,7 @@ def solve_element(spec: ElementSpec, *, normal_force_N: float, mu: float,
     Examples
     --------
     >>> s = solve_element(ElementSpec(n_length=4), normal_force_N=91.0, mu=0.0)
-    >>> round(s.face_force_N_per_m.sum() * 0.08, 6)
+    >>> round(float(s.face_force_N_per_m.sum()) * 0.08, 6)
     91.0
     """
     if model not in MODELS:

@@ -132,6 +132,8 @@ class ElementMesh:
         Triangles, coordinates in m.
     basis_u, basis_p : skfem.Basis
         P2 vector displacement and P1 pressure (Taylor-Hood), one quadrature.
+    basis_scalar : skfem.Basis
+        Scalar P2 (the dofs of one displacement component, for probing).
     fixed : ndarray
         Displacement dofs clamped (the root, or the bottom of the base layer).
     face_x, face_y : ndarray
@@ -146,6 +148,7 @@ class ElementMesh:
     mesh: Any
     basis_u: Any
     basis_p: Any
+    basis_scalar: Any
     fixed: np.ndarray
     face_x: np.ndarray
     face_y: np.ndarray
@@ -217,6 +220,7 @@ def build_mesh(spec: ElementSpec, *, intorder: int = 4) -> ElementMesh:
         mesh = mesh.remove_elements(np.flatnonzero(outside))
     basis_u = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()), intorder=intorder)
     basis_p = skfem.Basis(mesh, skfem.ElementTriP1(), quadrature=basis_u.quadrature)
+    basis_scalar = skfem.Basis(mesh, skfem.ElementTriP2(), quadrature=basis_u.quadrature)
     y_root = -spec.base_thickness_m if spec.base_thickness_m > 0 else 0.0
     fixed = basis_u.get_dofs(lambda x: np.abs(x[1] - y_root) < tol).all()
     face = basis_u.get_dofs(
@@ -228,6 +232,7 @@ def build_mesh(spec: ElementSpec, *, intorder: int = 4) -> ElementMesh:
     fy = fy[np.argsort(basis_u.doflocs[0, fy])]
     x = basis_u.doflocs[0, fx]
     return ElementMesh(
-        spec=spec, mesh=mesh, basis_u=basis_u, basis_p=basis_p, fixed=np.asarray(fixed),
+        spec=spec, mesh=mesh, basis_u=basis_u, basis_p=basis_p, basis_scalar=basis_scalar,
+        fixed=np.asarray(fixed),
         face_x=fx, face_y=fy, face_x_m=x, face_weights_m=_face_weights(x),
     )

@@ -49,10 +49,12 @@ def section_profile(state: ElementState, *, n_sections: int = 61,
     ys = np.linspace(0.0, spec.height_m * (1 - 1e-9), n_sections)
     xs = np.linspace(-half, half, n_across)
     X, Y = np.meshgrid(xs, ys)
-    P = state.mesh.basis_u.probes(np.vstack([X.ravel(), Y.ravel()]))
-    uv = P @ state.displacement
-    ux = uv[: X.size].reshape(X.shape)
-    uy = uv[X.size :].reshape(X.shape)
+    em = state.mesh
+    # probe each component with the scalar P2 basis (its dofs are the components' dofs)
+    P = em.basis_scalar.probes(np.vstack([X.ravel(), Y.ravel()]))
+    ix, iy = em.basis_u.split_indices()
+    ux = (P @ state.displacement[ix]).reshape(X.shape)
+    uy = (P @ state.displacement[iy]).reshape(X.shape)
     xd, yd = X + ux, Y + uy
     r = ux.mean(axis=1)
     xc = xs - xs.mean()
@@ -90,8 +92,8 @@ def face_contact(state: ElementState) -> dict[str, float]:
     """Contact length, lift-off, leading-edge pressure and lever arm of the face, SI units.
 
     The contact ends where the gap of the nodes off the ice extrapolates to zero
-    (:func:`_separation`; the nodes' deformed x); the lever arm is the deformed face centre minus the point of
-    action of the normal resultant.
+    (:func:`_separation`; the nodes' deformed x); the lever arm is the deformed face
+    centre minus the point of action of the normal resultant.
 
     Returns
     -------
