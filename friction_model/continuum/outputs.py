@@ -21,6 +21,9 @@ from friction_model.continuum.state import ElementState
 
 __all__ = ["ElementOutputs", "element_outputs", "face_contact", "section_profile"]
 
+#: Depth of the band below the face over which the tip slope is taken, m (about what a
+#: side-view camera resolves of the element's end).
+SLOPE_BAND_M = 0.5e-3
 #: Width of the leading band over which the front-edge pressure is averaged, m (about
 #: the TIR camera's resolution of a peak; the corner pressure itself is singular).
 FRONT_BAND_M = 0.5e-3
@@ -41,8 +44,9 @@ def section_profile(state: ElementState, *, n_sections: int = 61,
     Returns
     -------
     pandas.DataFrame
-        ``y_m, deflection_m, rotation_rad, slope_rad, shear_rad``; positive rotation and
-        slope lean the element towards +x (the beam's phi and alpha).
+        ``y_m, deflection_m, rotation_rad, slope_rad, shear_rad, centre_x_m, centre_y_m``
+        (the deformed centre of each section); positive rotation and slope lean the element
+        towards +x (the beam's phi and alpha).
     """
     spec = state.mesh.spec
     half = 0.5 * spec.length_m * (1 - 1e-9)
@@ -66,7 +70,8 @@ def section_profile(state: ElementState, *, n_sections: int = 61,
     dy = np.gradient(yd.mean(axis=1), ys, edge_order=2)
     slope = np.arctan2(dx, dy)
     return pd.DataFrame({"y_m": ys, "deflection_m": r, "rotation_rad": rotation,
-                         "slope_rad": slope, "shear_rad": slope - rotation})
+                         "slope_rad": slope, "shear_rad": slope - rotation,
+                         "centre_x_m": xd.mean(axis=1), "centre_y_m": yd.mean(axis=1)})
 
 
 def _separation(x: np.ndarray, gap: np.ndarray, i: int, step: int) -> float:
@@ -176,7 +181,8 @@ def element_outputs(state: ElementState) -> ElementOutputs:
     """Tip deflection, slope, bending / shear, contact and lever arm of a solved element.
 
     The tip deflection is the face's mean x displacement (exact integral of the P2 trace);
-    tip slope, bending angle (section rotation) and shear are those of the section at the
+    the tip slope is that of the deformed centre line over the last ``SLOPE_BAND_M`` below
+    the face; bending angle (section rotation) and shear are those of the section at the
     face, as r(d), alpha(d), phi(d) and gamma(d) of the beam (Fig. 5.15).
 
     Parameters
@@ -191,13 +197,18 @@ def element_outputs(state: ElementState) -> ElementOutputs:
     em = state.mesh
     prof = section_profile(state)
     tip = prof.iloc[-1]
+    # the centre line's slope over the band below the face (its corner boundary layer
+    # makes the slope at the face itself converge slowly under refinement)
+    below = prof.iloc[int(np.argmin(np.abs(prof["y_m"] - (em.spec.height_m - SLOPE_BAND_M))))]
+    tip_slope = math.atan2(tip["centre_x_m"] - below["centre_x_m"],
+                           tip["centre_y_m"] - below["centre_y_m"])
     contact = face_contact(state)
     return ElementOutputs(
         model=state.model,
         normal_force_N=state.normal_force_N,
         mu=state.mu,
         tip_deflection_m=float(np.sum(em.face_weights_m * state.face_ux_m) / em.spec.length_m),
-        tip_slope_rad=float(tip["slope_rad"]),
+        tip_slope_rad=float(tip_slope),
         bending_rad=float(tip["rotation_rad"]),
         max_rotation_rad=float(prof["rotation_rad"].max()),
         shear_rad=float(tip["shear_rad"]),
