@@ -13,14 +13,12 @@ refitted law, or with a constant lever arm. Nothing of the rig enters the fit.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import least_squares
 
 from friction_model.compound import REFERENCE_COMPOUND, Compound, steady_beam_column
 from friction_model.continuum.analysis import solve_element
@@ -49,61 +47,23 @@ def lever_arm_sweep(spec: ElementSpec, *, normal_force_N: float, mus: Sequence[f
     return pd.DataFrame(rows)
 
 
-def _eq_5_21(phi: np.ndarray, length_m: float, e1: float, e2: float, e3: float, e4: float):
-    """Eq. 5.21: e = l/4 - e3 + atan(-e1 + e2 phi) (l/2 - e4) / pi, m (phi >= 0)."""
-    return 0.25 * length_m - e3 + np.arctan(-e1 + e2 * phi) / math.pi * (0.5 * length_m - e4)
+def fit_lever_arm_law(phi_rad: np.ndarray, lever_arm_m: np.ndarray,
+                      length_m: float) -> dict[str, float]:
+    """e1..e4 of Eq. 5.21 fitted to lever arms over the tip rotation.
 
-
-def fit_lever_arm_law(phi_rad: np.ndarray, lever_arm_m: np.ndarray, length_m: float,
-                      *, e2_max_per_rad: float = 1e4) -> dict[str, float]:
-    """Least-squares e1..e4 of Eq. 5.21 to lever arms over the tip rotation.
-
-    e3 and e4 stay in [-l/2, l/2], e1 in [-50, 50] and e2 in [0, ``e2_max_per_rad``] (the
-    bounds of :class:`~friction_model.dynamics.timoshenko.TimoshenkoParams`); the fit starts
-    from the Fig. 5.12 a law and from a steep one and keeps the better.
-
-    Parameters
-    ----------
-    phi_rad, lever_arm_m : ndarray
-        Tip rotations (>= 0, rad) and lever arms (m).
-    length_m : float
-        Element length l, m.
-    e2_max_per_rad : float
-        Largest e2, 1/rad.
+    The project's one Eq. 5.21 fit (:func:`friction_model.identification.fit_lever_arm`,
+    within the bounds of ``TimoshenkoParams``), returned as ``TimoshenkoParams`` fields.
 
     Returns
     -------
     dict
-        ``e1, e2_per_rad, e3_m, e4_m`` (the fields of ``TimoshenkoParams``) and ``rms_m``.
-
-    Examples
-    --------
-    >>> phi = np.linspace(0.0, 1.0, 30)
-    >>> e = _eq_5_21(phi, 4.55e-3, 12.0, 28.0, 0.0, 1e-4)
-    >>> fit = fit_lever_arm_law(phi, e, 4.55e-3)
-    >>> round(fit["rms_m"] * 1e6, 3)
-    0.0
+        ``e1, e2_per_rad, e3_m, e4_m`` and the residual ``rms_m``.
     """
-    from friction_model.dynamics.timoshenko import TimoshenkoParams
+    from friction_model.identification import fit_lever_arm
 
-    phi = np.clip(np.asarray(phi_rad, dtype=float), 0.0, None)
-    e = np.asarray(lever_arm_m, dtype=float)
-    half = 0.5 * length_m
-
-    def resid(x):
-        return _eq_5_21(phi, length_m, *x) - e
-
-    lb = [-50.0, 0.0, -half, -half]
-    ub = [50.0, e2_max_per_rad, half, half]
-    fig = TimoshenkoParams(length_m=max(length_m, 3.8e-3 * 1.0001), contact_stiffness_N_m=1.0)
-    e3, e4 = fig.lever_arm_e3_e4
-    starts = [[12.0, 28.0, float(np.clip(e3, -half, half)), float(np.clip(e4, -half, half))],
-              [1.0, 0.5 * e2_max_per_rad, 0.0, 0.0]]
-    best = min((least_squares(resid, x0, bounds=(lb, ub)) for x0 in starts),
-               key=lambda r: float(np.sum(r.fun**2)))
-    e1, e2, e3, e4 = (float(v) for v in best.x)
-    return {"e1": e1, "e2_per_rad": e2, "e3_m": e3, "e4_m": e4,
-            "rms_m": float(np.sqrt(np.mean(best.fun**2)))}
+    fit = fit_lever_arm(np.clip(np.asarray(phi_rad, dtype=float), 0.0, None),
+                        np.asarray(lever_arm_m, dtype=float), element_length_m=length_m)
+    return {**{k: float(v) for k, v in fit.params.items()}, "rms_m": float(fit.rmse_m)}
 
 
 def winkler_contact_length(lever_arm_m: float, length_m: float) -> float:
