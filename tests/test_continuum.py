@@ -170,3 +170,21 @@ def test_rear_lifts_off_more_as_friction_grows_and_the_contact_set_settles():
                                           model="neo-hookean")) for mu in (0.3, 0.5)]
     assert 0 < outs[0].liftoff_m < outs[1].liftoff_m < spec.length_m
     assert outs[0].lever_arm_m < outs[1].lever_arm_m < spec.length_m / 2
+
+
+def test_base_layer_without_margin_is_a_taller_element():
+    # a base layer as long as the element (no margin) is the element continued downwards:
+    # the same mesh (shifted by t) as an element of height d + t: the same face to rounding
+    common = {"length_m": 4e-3, "width_m": 0.08, "youngs_modulus_Pa": E, "n_length": 8}
+    on_base = ElementSpec(height_m=6e-3, base_thickness_m=2e-3, base_margin_m=0.0, **common)
+    taller = ElementSpec(height_m=8e-3, **common)
+    a, b = (element_outputs(solve_element(s, normal_force_N=N_G3, mu=MU_G3))
+            for s in (on_base, taller))
+    for name in ("tip_deflection_m", "lever_arm_m", "contact_length_m"):
+        assert getattr(a, name) == pytest.approx(getattr(b, name), rel=1e-7), name
+    # a wider base is softer than the clamped root, and softer still when thicker
+    clamped, thin, thick = (
+        element_outputs(solve_element(ElementSpec(height_m=6e-3, base_thickness_m=t, **common),
+                                      normal_force_N=N_G3, mu=MU_G3)).tip_deflection_m
+        for t in (0.0, 1e-3, 4e-3))
+    assert clamped < thin < thick

@@ -173,9 +173,10 @@ def _grid(spec: ElementSpec) -> tuple[np.ndarray, np.ndarray]:
     xs = np.linspace(-half, half, spec.n_length + 1)
     ys = np.linspace(0.0, spec.height_m, spec.n_height + 1)
     if spec.base_thickness_m > 0:
-        nm = max(1, math.ceil(spec.base_margin_m / h))
-        side = np.linspace(half, half + spec.base_margin_m, nm + 1)[1:]
-        xs = np.concatenate([-side[::-1], xs, side])
+        if spec.base_margin_m > 0:
+            nm = max(1, math.ceil(spec.base_margin_m / h))
+            side = np.linspace(half, half + spec.base_margin_m, nm + 1)[1:]
+            xs = np.concatenate([-side[::-1], xs, side])
         nb = max(1, math.ceil(spec.base_thickness_m / h))
         ys = np.concatenate([np.linspace(-spec.base_thickness_m, 0.0, nb + 1)[:-1], ys])
     return xs, ys
