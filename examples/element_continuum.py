@@ -10,7 +10,9 @@ arm over the tip rotation. Nothing is fitted to a chapter-5 number.
 
 Run: ``python examples/element_continuum.py --out DIR`` (needs ``pip install
 'tir-contact[fem]'``); writes ``continuum_vs_beam.csv``, ``continuum_vs_beam.md``,
-``lever_arm_sweep.csv``, ``face_pressure.csv`` and ``element_continuum.png`` (deformed mesh
+``lever_arm_sweep.csv``, ``face_pressure.csv``, ``section_profile.csv`` (deflection,
+section rotation, slope and shear along the depth: the bending / shear split) and
+``element_continuum.png`` (deformed mesh
 with the face pressure, the pressure along the face, the lever arm over the tilt).
 """
 
@@ -28,9 +30,16 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 import numpy as np
+import pandas as pd
 from _common import OUT_ROOT, save_figure
 
-from friction_model.continuum import continuum_vs_beam
+from friction_model.continuum import (
+    ElementSpec,
+    continuum_vs_beam,
+    element_outputs,
+    section_profile,
+    solve_element,
+)
 from friction_model.dynamics.timoshenko import TimoshenkoParams, lever_arm
 from tir_common.atomic import atomic_write, write_json
 
@@ -107,15 +116,28 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     cmp = continuum_vs_beam(n_length=args.n_length)
-    table = cmp.table[[c for c in COLUMNS if c in cmp.table.columns]]
+    # sensitivity, not a fit: the linear element on a 14 mm base layer (the block under the
+    # sipes, as friction_model.compound describes it), 5 mm of base beyond each side
+    base = ElementSpec.from_preset("G3", n_length=args.n_length, base_thickness_m=14e-3,
+                                   base_margin_m=5e-3)
+    on_base = element_outputs(solve_element(base, normal_force_N=cmp.linear.outputs.normal_force_N,
+                                            mu=cmp.mu)).as_row()
+    on_base.update(model="FE linear on a 14 mm base layer (sensitivity)", status="sensitivity")
+    table = pd.concat([cmp.table, pd.DataFrame([on_base])],
+                                        ignore_index=True)
+    table = table[[c for c in COLUMNS if c in table.columns]]
     atomic_write(args.out / "continuum_vs_beam.csv", lambda p: table.to_csv(p, index=False))
     atomic_write(args.out / "continuum_vs_beam.md", lambda p: p.write_text(markdown(table)))
     atomic_write(args.out / "lever_arm_sweep.csv", lambda p: cmp.sweep.to_csv(p, index=False))
+    profiles = pd.concat(
+        [section_profile(a.state).assign(model=name) for a, name in
+         ((cmp.linear, "FE linear"), (cmp.neo_hookean, "FE neo-Hookean"))], ignore_index=True)
+    atomic_write(args.out / "section_profile.csv", lambda p: profiles.to_csv(p, index=False))
     st = cmp.neo_hookean.state
     face = {"x_mm": (st.mesh.face_x_m + st.face_ux_m) * 1e3,
             "pressure_bar": st.face_pressure_Pa / 1e5, "in_contact": st.active}
     atomic_write(args.out / "face_pressure.csv",
-                 lambda p: __import__("pandas").DataFrame(face).to_csv(p, index=False))
+                 lambda p: pd.DataFrame(face).to_csv(p, index=False))
     write_json(args.out / "lever_law.json", {**cmp.lever_law, "mu": cmp.mu,
                "frequencies_sliding_Hz_E0": {k: list(a.frequencies_sliding_Hz) for k, a in
                                             (("linear", cmp.linear), ("neo-hookean",
