@@ -31,10 +31,11 @@ try:
 except MissingExtraError:
     HAVE_TAMAAS = False
 
+# the test extra installs tamaas on every Python it has a wheel for (3.11, 3.12)
 needs_tamaas = pytest.mark.skipif(
     not HAVE_TAMAAS,
-    reason="tamaas (the contact extra) has no wheel for this Python "
-    f"({sys.version_info.major}.{sys.version_info.minor}); wheels exist for 3.11 and 3.12",
+    reason="tamaas (the contact extra) is not installed; it has wheels for Python 3.11 and "
+    f"3.12, this is {sys.version_info.major}.{sys.version_info.minor}",
 )
 
 

@@ -23,7 +23,9 @@ except MissingExtraError:
 
 pytestmark = [
     pytest.mark.skipif(
-        not HAVE_TAMAAS, reason="tamaas (the contact extra) has no wheel for this Python"
+        not HAVE_TAMAAS,
+        reason="tamaas (the contact extra) is not installed; it has wheels for Python 3.11 "
+        "and 3.12",
     ),
     pytest.mark.slow,  # four solves and four analyses: about a minute
 ]
