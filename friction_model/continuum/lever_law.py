@@ -7,7 +7,7 @@ resultant of the face pressure. :func:`lever_arm_sweep` drags the element with g
 friction at the operating normal force (the tilt grows with mu); :func:`fit_lever_arm_law`
 fits e1..e4 of Eq. 5.21 to e over the face's section rotation phi(d) (the beam's tip
 rotation), and :func:`beam_steady_state` runs the steady beam-column
-(:func:`friction_model.compound.steady_beam_column`) with the Fig. 5.12 a law, with the
+(:func:`friction_model.dynamics.root.steady_beam_column`) with the Fig. 5.12 a law, with the
 refitted law, or with a constant lever arm. Nothing of the rig enters the fit.
 """
 
@@ -20,10 +20,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from friction_model.compound import REFERENCE_COMPOUND, Compound, steady_beam_column
+from friction_model.compound import REFERENCE_COMPOUND, Compound
 from friction_model.continuum.analysis import solve_element
 from friction_model.continuum.model import ElementSpec
 from friction_model.continuum.outputs import element_outputs
+from friction_model.dynamics.root import steady_beam_column
 
 __all__ = ["beam_steady_state", "fit_lever_arm_law", "lever_arm_sweep", "winkler_contact_length"]
 
@@ -95,7 +96,7 @@ def beam_steady_state(*, mu: float, normal_force_N: float, compound: Compound = 
     Returns
     -------
     dict
-        :func:`~friction_model.compound.steady_beam_column`'s values and
+        :func:`~friction_model.dynamics.root.steady_beam_column`'s values and
         ``contact_length_m`` (Winkler, from e), ``liftoff_m``.
     """
     from friction_model.dynamics.timoshenko import TimoshenkoParams
