@@ -7,6 +7,7 @@ and returns a :class:`VideoSetup`, everything the per-frame step
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from collections.abc import Mapping
@@ -16,8 +17,10 @@ from typing import Any
 
 import cv2
 import numpy as np
+from scipy.stats import norm
 
 from tir_contact._darkness import Normaliser
+from tir_contact._percentile import pixelwise_percentile
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.features import BlockLayout
 from tir_contact.flatfield import Reference, reference_from_frames
@@ -25,6 +28,7 @@ from tir_contact.illumination import lit_zone_from_file
 from tir_contact.meta import META_FILENAME, clip_footage, find_meta, load_meta, read_meta_json
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
+from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
 from tir_contact.segment import estimate_contrast
 from tir_contact.side import ice_line_tilt_deg, ice_line_y_px, level_image
 
@@ -183,6 +187,9 @@ class VideoSetup:
         Side view turned level: the pixels that come from inside the frame.
     notes : list of str
         Warnings found while preparing (``summary.json`` lists them).
+    reference_fit : ReferenceFit or None
+        TIR with ``--reference``: gain, shift and residual of the user's image fitted to
+        the footage (:func:`tir_contact.reference_fit.fit_reference`).
     """
     meta: dict[str, Any]
     view: str
@@ -206,6 +213,7 @@ class VideoSetup:
     level_deg: float = 0.0  # side view: tilt of the ice line; frames are turned level by it
     level_valid: np.ndarray | None = None  # side view: pixels inside the frame once turned
     notes: list[str] = field(default_factory=list)  # what the user must know (warnings)
+    reference_fit: ReferenceFit | None = None  # TIR: the user's reference fitted (gain, shift)
 
 
 def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
@@ -269,8 +277,10 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
     reference: Reference | None
     tref: TirReference | None = None
+    ref_fit: ReferenceFit | None = None
+    fit_notes: list[str] = []
     if view == "tir":
-        tref = _tir_reference(samples, shape, contact_is, options)
+        tref, ref_fit, fit_notes = _tir_reference(samples, shape, contact_is, options)
         reference, method = tref.reference, tref.method
     elif options.reference is not None:
         reference = _read_reference_file(options.reference, shape)
@@ -287,7 +297,7 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
             reference, method = None, "per-frame background (no frame without the block)"
     else:
         reference, method = None, f"per-frame background ({len(samples)} frame(s) sampled)"
-    level_deg, level_valid, notes = 0.0, None, []
+    level_deg, level_valid, notes = 0.0, None, list(fit_notes)
     if view == "side":
         # without a reference, the median of a few samples shows the block where it stays
         median = (np.median(np.stack(samples[:9]).astype(np.float32), axis=0)
@@ -310,7 +320,8 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         "fixed" if reference is not None else "follows")
     return VideoSetup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
                   reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
-                  grey_range, camera, tref, threshold, level_deg, level_valid, notes)
+                  grey_range, camera, tref, threshold, level_deg, level_valid, notes,
+                  ref_fit)
 
 
 #: A side view without a block-free frame needs the block to leave free background beside
@@ -391,16 +402,82 @@ def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) ->
 
 
 def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
-                   options: AnalysisOptions) -> TirReference:
+                   options: AnalysisOptions
+                   ) -> tuple[TirReference, ReferenceFit | None, list[str]]:
     """Lit zone, camera mode, free surface and noise (:func:`tir_contact.reference.tir_reference`)
-    with the user's lit mask and reference image, when given."""
+    with the user's lit mask and reference image, when given.
+
+    A user's reference is first fitted to the footage (gain and shift,
+    :func:`tir_contact.reference_fit.fit_reference`) against the footage's own estimate;
+    a reference that does not fit is not used (a warning says so, naming the file and the
+    residual), and the footage's own estimate stands.
+    """
     lit = lit_zone_from_file(options.lit_mask, shape) if options.lit_mask else None
-    image = (_read_reference_file(options.reference, shape).image
-             if options.reference is not None else None)
+    kwargs = dict(contact_is=contact_is, percentile=options.percentile,
+                  min_darkness=options.min_darkness,
+                  min_block_fraction=options.min_block_fraction)
     try:
-        return tir_reference(samples, contact_is=contact_is, percentile=options.percentile,
-                             camera=options.camera, lit=lit, image=image,
-                             min_darkness=options.min_darkness,
-                             min_block_fraction=options.min_block_fraction)
+        own = tir_reference(samples, camera=options.camera, lit=lit, **kwargs)
+        if options.reference is None:
+            return own, None, []
+        raw = _read_reference_file(options.reference, shape).image
+        fit = fit_reference(raw, _free_image(samples, own, contact_is, options.percentile),
+                            noise=own.noise, lit=own.lit.mask, contact_is=contact_is)
+        if not fit.fits:
+            note = (f"{options.reference}: the reference image does not fit the footage: "
+                    f"after the best gain ({fit.gain:.3f}) and shift ({fit.shift_px[0]:+.2f}, "
+                    f"{fit.shift_px[1]:+.2f}) px its residual on the free surface is "
+                    f"{fit.residual_rms:.3f} in darkness, {fit.noise_ratio:.1f} times the "
+                    f"noise (at most {MAX_NOISE_RATIO:g}); it was not used, the free surface "
+                    "was estimated from the footage")
+            own = dataclasses.replace(own, method=own.method + " (the --reference image "
+                                      "did not fit)")
+            return own, fit, [note]
+        zone = dataclasses.replace(own.lit, mask=own.lit.mask & fit.inside,
+                                   rim=own.lit.rim & fit.inside)
+        tref = tir_reference(samples, camera=options.camera, lit=zone, image=fit.image,
+                             **kwargs)
+        method = (f"file, fitted: gain {fit.gain:.3f}, shift ({fit.shift_px[0]:+.2f}, "
+                  f"{fit.shift_px[1]:+.2f}) px")
+        return dataclasses.replace(tref, method=method), fit, []
     except ValueError as exc:
         raise FootageError(str(exc), options.lit_mask) from exc
+
+
+def _free_image(samples: list[np.ndarray], own: TirReference, contact_is: str,
+                percentile: float) -> np.ndarray:
+    """The footage's free surface wherever it shows, for fitting a user's reference.
+
+    A block passing a fixed camera may cover a pixel in most frames: there each pixel's
+    bright `percentile` over the samples, less its expected excess over the mean (the
+    normal order statistic times the noise, :func:`_percentile_excess`); a static scene:
+    each pixel's median.
+    """
+    if len(samples) == 1:
+        return np.asarray(samples[0], np.float32)
+    if own.camera == "fixed" and len(samples) >= 5:
+        q = percentile if contact_is == "dark" else 100.0 - percentile
+        image = np.asarray(pixelwise_percentile(samples, q), np.float32)
+        excess = _percentile_excess(len(samples), q) * own.noise.sigma_grey(image)
+        return (image - excess).astype(np.float32)
+    return np.asarray(pixelwise_percentile(samples, 50.0), np.float32)
+
+
+def _percentile_excess(n: int, q: float) -> float:
+    """Expected `q`-th percentile (linear interpolation, as numpy's) of `n` standard normal
+    values: Blom's approximation ``Phi^-1((i - 0.375) / (n + 0.25))`` of the order
+    statistics either side, interpolated.
+
+    Examples
+    --------
+    >>> round(_percentile_excess(32, 90.0), 2), _percentile_excess(7, 50.0)  # Monte Carlo: 1.201
+    (1.2, 0.0)
+    """
+    pos = q / 100.0 * (n - 1)
+    i = min(math.floor(pos), n - 1)
+    f = pos - i
+
+    def blom(k: int) -> float:  # k 0-based
+        return float(norm.ppf((k + 1 - 0.375) / (n + 0.25)))
+
+    return (1 - f) * blom(i) + (f * blom(i + 1) if f > 0 else 0.0)
