@@ -260,12 +260,14 @@ _TWO_TONED = 0.5
 def _background_levels(img: np.ndarray, contact_is: str) -> np.ndarray:
     """Per-row level of the background (backlight, holder, ice) behind a side view's block.
 
-    A row that holds rubber and backlight is two-toned (:data:`_TWO_TONED`): its level is
-    the median of the pixels on the background's side of the midpoint between its 5th and
-    99th percentile, which holds while any backlight shows beside the block (a block
-    spanning 90 % of the width, a holder plate across the whole frame above it). Other rows
-    (a plate or carriage across the width, the ice, the backlight alone) take the 75th
-    percentile (25th for bright rubber), as :func:`_row_levels`.
+    Each row's level is its 75th percentile (25th for bright rubber, :func:`_row_levels`),
+    which is background while the block covers less than a quarter of the row. A row that
+    holds rubber and backlight is two-toned (:data:`_TWO_TONED`): its level is at least
+    (bright rubber: at most) the median of the pixels on the background's side of the
+    midpoint between its 5th and 99th percentile, which holds while any backlight shows
+    beside the block (a block spanning 90 % of the width, a holder plate across the whole
+    frame above it). Rows without rubber (a plate or carriage across the width, the ice,
+    the backlight alone) keep the percentile.
     """
     step = max(1, img.shape[1] // 160)
     sub = img[:, ::step].astype(np.float32)
@@ -277,7 +279,10 @@ def _background_levels(img: np.ndarray, contact_is: str) -> np.ndarray:
     mid = 0.5 * (lo + hi)[two, None]
     rows = sub[two]
     side = rows > mid if contact_is == "dark" else rows < mid
-    levels[two] = np.nanmedian(np.where(side, rows, np.nan), axis=1)
+    cls = np.nanmedian(np.where(side, rows, np.nan), axis=1)
+    # the percentile stands while it lies in the background's class beyond its median
+    # (the block covers under half the row): the same numbers as before for such rows
+    levels[two] = (np.maximum if contact_is == "dark" else np.minimum)(levels[two], cls)
     return levels
 
 
