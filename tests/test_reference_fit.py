@@ -24,6 +24,9 @@ from tir_contact.analyze import analyze_video
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference_fit import MAX_NOISE_RATIO, fit_reference
 
+#: The conftest's small camera (render_clip): 320 x 128 px at 0.2 mm/px.
+SMALL_CAMERA = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128)
+
 #: Exposure of the empty frame relative to the footage.
 EXPOSURE = 0.87
 #: Contact centres far outside the view: the same scene without contact.
@@ -117,3 +120,34 @@ def test_bright_contact_and_a_sub_pixel_shift():
     assert fit.shift_px == pytest.approx((-1.3, 0.6), abs=0.01)
     with pytest.raises(ValueError, match="one shape"):
         fit_reference(footage[:-1], footage)
+
+
+def test_passing_block_with_the_rigs_empty_frame(render_clip, tmp_path):
+    """A block passing a fixed camera, with an empty frame at 1/1.1 of the exposure moved by
+    (3.3, -2.1) px: fitted against the samples' bright percentile less its expected excess
+    over the mean (the block covers each pixel in some samples)."""
+    folder = render_clip(tmp_path / "pass")
+    spec = FootageSpec(preset="G3", velocity_mps=3.0, n_frames=1, dynamics="steady",
+                       center_time_s=10.0,  # the block far away: the empty track
+                       camera=dataclasses.replace(SMALL_CAMERA, white_level=0.8 / 1.1))
+    image = next(iter_frames(spec))[1]
+    m = np.float32([[1, 0, 3.3], [0, 1, -2.1]])
+    ref = tmp_path / "empty.png"
+    cv2.imwrite(str(ref), cv2.warpAffine(image, m, image.shape[::-1], flags=cv2.INTER_LINEAR,
+                                         borderMode=cv2.BORDER_REPLICATE))
+    result = analyze_video(folder, options=AnalysisOptions(reference=str(ref)))
+    fit = result.summary["reference"]["fit"]
+    # measured: gain 1.0967 (0.3 % low), shift within 0.015 px
+    assert fit["fits"] and fit["gain"] == pytest.approx(1.1, rel=0.01)
+    assert fit["shift_x_px"] == pytest.approx(-3.3, abs=0.05)
+    assert fit["shift_y_px"] == pytest.approx(2.1, abs=0.05)
+    truth = pd.read_csv(folder / "ground_truth.csv")
+    block = truth[truth["element"] == -1].set_index("frame")
+    inside = block.index[block["in_view"] & (block["contact_area_mm2"] > 20)]
+    measured = result.frames.set_index("frame").loc[inside, "contact_area_mm2"]
+    rel = (measured - block.loc[inside, "contact_area_mm2"]).abs() / block.loc[inside,
+                                                                             "contact_area_mm2"]
+    # as with the footage's own reference (tests/test_analyze.py): the block's edges are
+    # placed to a fraction of a pixel (median 0 here), frames with the block entering or
+    # leaving the view carry the motion blur of its edge (6 % at most, measured)
+    assert rel.median() <= 0.01 and rel.max() <= 0.1

@@ -483,9 +483,10 @@ def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is
             own = dataclasses.replace(own, method=own.method + " (the --reference image "
                                       "did not fit)")
             return own, fit, [note]
-        zone = dataclasses.replace(own.lit, mask=own.lit.mask & fit.inside,
-                                   rim=own.lit.rim & fit.inside)
-        tref = tir_reference(samples, camera=options.camera, lit=zone, image=fit.image,
+        # where the shifted reference has no data (a strip along the border), the
+        # footage's own estimate
+        image = np.where(fit.inside, fit.image, own.reference.image.astype(np.float32))
+        tref = tir_reference(samples, camera=options.camera, lit=own.lit, image=image,
                              **kwargs)
         method = (f"file, fitted: gain {fit.gain:.3f}, shift ({fit.shift_px[0]:+.2f}, "
                   f"{fit.shift_px[1]:+.2f}) px")

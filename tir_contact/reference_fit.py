@@ -46,8 +46,9 @@ Method
    fitting references on renders of several domain classes, 8-bit and JPEG included;
    about 36 for a lit band taken for a lit disc).
 
-Pixels whose shifted reference would come from outside the image are not measured
-(``inside``).
+Pixels whose shifted reference would come from outside the image (``inside`` False: a
+strip along the border as wide as the shift) take the footage's own free-surface estimate
+(:func:`tir_contact.prepare.prepare_video`).
 
 Examples
 --------
