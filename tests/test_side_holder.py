@@ -76,6 +76,7 @@ def test_plate_across_the_frame_following_camera_velocity_step(tmp_path, mm_per_
     assert np.ptp(per_frame.to_numpy()) > 10.0
 
 
+@pytest.mark.slow  # 6 s: a second holder and a G5 model run
 def test_carriage_above_the_holder(tmp_path):
     """The rig's carriage, as dark as the plate, fills the frame above the holder."""
     result, el = _analyse(_spec(0.05, holder="carriage", preset="G5"), tmp_path / "clip")
