@@ -22,10 +22,10 @@ residual is judged on the free surface of the whole frame.
 
 Method
 ------
-1. The coarse shift is the whole-pixel shift within :data:`SEARCH_PX` (12 px) that leaves
-   the least median absolute residual after a median gain (a pyramid search: copies
-   shrunk 4x, then 2x, then full size); medians are not moved by contact, a minority of
-   the pixels. The gain starts as the ratio of the medians over the lit zone.
+1. The coarse shift (to 2 px, within :data:`SEARCH_PX`, 12 px) is the one that leaves
+   the least median absolute residual after a median gain (a pyramid search on copies
+   shrunk 4x, then 2x); medians are not moved by contact, a minority of the
+   pixels. The gain starts as the ratio of the medians over the lit zone.
 2. Gauss-Newton (Lucas-Kanade) steps on ``(g, s)``: the residual ``T - g R_s`` is
    linearised as ``dg R_s - g grad(R_s) . ds`` and solved by weighted least squares
    (weight: one over the expected residual variance, below), the contact pixels found
@@ -182,24 +182,22 @@ def _overlap_cost(ref: np.ndarray, tgt: np.ndarray, dx: int, dy: int) -> float:
 
 
 def _coarse_shift(ref: np.ndarray, target: np.ndarray) -> tuple[float, float]:
-    """Whole-pixel shift of `target` against `ref` within :data:`SEARCH_PX`: the least
-    robust residual (:func:`_overlap_cost`), searched on copies shrunk 4x, then refined
-    at 2x and full size by one pixel either way."""
+    """Shift of `target` against `ref` within :data:`SEARCH_PX`, to 2 px: the least robust
+    residual (:func:`_overlap_cost`), searched on copies shrunk 4x, then refined on copies
+    shrunk 2x by one of their pixels either way (the Gauss-Newton steps take it from
+    there)."""
     best = (0, 0)
-    for level in (4, 2, 1):
-        if level > 1:
-            size = (max(8, ref.shape[1] // level), max(8, ref.shape[0] // level))
-            r = cv2.resize(ref, size, interpolation=cv2.INTER_AREA)
-            t = cv2.resize(target, size, interpolation=cv2.INTER_AREA)
-        else:
-            r, t = ref, target
+    for level in (4, 2):
+        size = (max(8, ref.shape[1] // level), max(8, ref.shape[0] // level))
+        r = cv2.resize(ref, size, interpolation=cv2.INTER_AREA)
+        t = cv2.resize(target, size, interpolation=cv2.INTER_AREA)
         if level == 4:
             reach = math.ceil(SEARCH_PX / level) + 1
             grid = [(x, y) for y in range(-reach, reach + 1) for x in range(-reach, reach + 1)]
         else:
             grid = [(2 * best[0] + x, 2 * best[1] + y) for y in (-1, 0, 1) for x in (-1, 0, 1)]
         best = min(grid, key=lambda d: _overlap_cost(r, t, d[0], d[1]))
-    return float(best[0]), float(best[1])
+    return 2.0 * best[0], 2.0 * best[1]
 
 
 def _variance(noise: NoiseModel | None, target: np.ndarray, ref_s: np.ndarray,
