@@ -500,13 +500,20 @@ def side_darkness(
     return d.astype(np.float32)
 
 
+#: Darkness level below which :func:`block_span_px` sees no rubber: dark rubber reflects
+#: under a quarter of the backlight (0.92 in the renders), dust and bubbles remove at most
+#: about a third of the light, a steel holder 0.6.
+_RUBBER_LEVEL = 0.7
+
+
 def block_span_px(
     frame: np.ndarray, *, contact_is: str = "dark", min_darkness: float = 0.3
 ) -> tuple[float, float] | None:
     """Left and right end (columns) of the block base in a side-view frame, or None.
 
     The frame is normalised by its own background (:func:`side_darkness`); the rubber is
-    darkness above half its level (as in :func:`side_frame_features`), and the block base
+    darkness above half its level (as in :func:`side_frame_features`; no rubber when that
+    level is under :data:`_RUBBER_LEVEL`, 3 x 3 specks dropped), and the block base
     is the rows holding the most rubber: the rigid part of the block between its holder and
     the elements, as long as the block (the carrier, the holder plate and the carriage
     above it read as less than rubber or as background). An end at the image border is
@@ -532,8 +539,14 @@ def block_span_px(
         return None
     p95 = float(np.percentile(hi, 95))
     level = float(np.median(hi[hi > 0.8 * p95]))
-    rubber = d > 0.5 * level
+    if level < _RUBBER_LEVEL:
+        return None  # dust, bubbles or steel: nothing as dark as rubber
+    # a 3 x 3 opening drops specks and one-pixel lines; the block is a region
+    rubber = cv2.morphologyEx((d > 0.5 * level).astype(np.uint8), cv2.MORPH_OPEN,
+                              np.ones((3, 3), np.uint8)).astype(bool)
     count = rubber.sum(axis=1)
+    if count.max() < 3:
+        return None
     rows = np.nonzero(count >= 0.9 * count.max())[0]
     cols = [np.nonzero(rubber[r])[0] for r in rows]
     left = float(np.median([c[0] for c in cols]))
