@@ -122,3 +122,15 @@ def test_block_span_of_a_following_camera_stays_put():
     spans = np.array([block_span_px(img) for _, img, _ in iter_frames(spec)])
     length = float(np.median(spans[:, 1] - spans[:, 0]))
     assert np.ptp(spans, axis=0).max() < 0.02 * length
+
+
+def test_no_block_span_in_an_empty_view_with_dust():
+    """Dust on the lens darkens by up to about a third (a noisy, vignetted domain camera:
+    sample_specs(80, seed=5)[3], the block far away): no block."""
+    cam = CameraSettings(width_px=211, height_px=120, mm_per_px=0.1333, gain=2.894,
+                         white_level=0.2975, vignetting=0.554, illumination_gradient=0.098,
+                         n_bubbles=0, n_scratches=3, groove_depth=0.0188, n_dust=40)
+    spec = FootageSpec(view="side", preset="G5", n_frames=1, dynamics="steady",
+                       settle_s=0.004, center_time_s=10.0, seed=2138939200, camera=cam)
+    image = next(iter_frames(spec))[1]
+    assert block_span_px(image) is None
