@@ -138,6 +138,7 @@ from tir_common.progress import progress_bar
 from tir_common.validate import check_number
 
 __all__ = [
+    "HOLDERS",
     "PHYSICAL_TRUTH_COLUMNS",
     "REAL_TRUTH_COLUMNS",
     "SCENES",
@@ -222,6 +223,10 @@ _CAMERA_REAL_DEFAULTS: dict[str, Any] = {
     "jpeg_quality": None,
     "optical_blur_mm": 0.0,
 }
+#: Side-view fields and their defaults (left out of ``FootageSpec.to_dict`` at them).
+_SIDE_DEFAULTS: dict[str, Any] = {"holder": "carrier"}
+#: What holds the block in the side view (``FootageSpec.holder``).
+HOLDERS = ("carrier", "plate", "carriage")
 #: Scenes of the TIR view: the sliding block or a static contact.
 SCENES = ("block", "round_pad", "coin", "three_point", *PHYSICAL_SCENES)
 #: Extra ground-truth columns of specs that use a real-footage field.
@@ -581,6 +586,12 @@ class FootageSpec:
         0 (default): none.
     texture_mm : float
         Correlation length of the texture, mm, in (0, 100]; 0.05.
+    holder : {"carrier", "plate", "carriage"}
+        Side view: what holds the block. "carrier": the 3 mm steel plate the block is glued
+        to, 1 mm longer than the block at either end, backlight above it (as before this
+        field existed). "plate": that carrier spans the whole frame width (and the block's
+        travel) at all times. "carriage": the plate, and above it the rig's carriage, as
+        dark as the plate, up to the top of the frame. TIR view: "carrier" only.
 
     Notes
     -----
@@ -634,6 +645,7 @@ class FootageSpec:
     wavelength_nm: float = 550.0
     texture: float = 0.0
     texture_mm: float = 0.05
+    holder: str = "carrier"
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
@@ -761,6 +773,10 @@ class FootageSpec:
                         f"{name} must be {default!r} for view='side' (a TIR feature), got "
                         f"{name}={value!r}"
                     )
+        put("holder", _choice("holder", self.holder, HOLDERS))
+        if self.view == "tir" and self.holder != "carrier":
+            raise ValueError(f"holder must be 'carrier' for view='tir' (a side-view feature), "
+                             f"got holder={self.holder!r}")
         if self.scene != "block" and self.follow_camera:
             raise ValueError(
                 f"follow_camera must be False for a static scene, got follow_camera=True with "
@@ -960,6 +976,9 @@ class FootageSpec:
         for name, default in _CAMERA_REAL_DEFAULTS.items():
             if out["camera"][name] == default:
                 del out["camera"][name]
+        for name, default in _SIDE_DEFAULTS.items():
+            if out[name] == default:
+                del out[name]
         return out
 
 
@@ -1485,11 +1504,17 @@ class _Clip:
         # ~8 % (0.85 front-lit), matte steel 0.4 / 0.5, ice slab 0.6 / 0.3. The rubber
         # above the sipe ground is not given in the thesis: 2 mm, a usual tread base,
         # glued to a 3 mm steel carrier that overhangs the block by 1 mm.
+        # holder="plate": the carrier spans the view wherever the block is (its travel
+        # included); "carriage": above it the rig's carriage, as dark, to the frame's top
+        v_max = max(spec.velocity_mps, spec.velocity_step_to_mps or 0.0)
+        travel = v_max * 1e3 * spec.duration_s
+        reach = w_mm + self.geom.length_mm + 2.0 * travel + 1.0
+        base_mm, ice_y = 2.0, _SIDE_ICE_ROW * h_mm
         self.layout = SideLayout(
-            ice_y_mm=_SIDE_ICE_ROW * h_mm,
-            base_mm=2.0,
-            carrier_mm=3.0,
-            carrier_overhang_mm=1.0,
+            ice_y_mm=ice_y,
+            base_mm=base_mm,
+            carrier_mm=3.0 if spec.holder != "carriage" else 3.0 + ice_y + 2.0 * h_mm,
+            carrier_overhang_mm=1.0 if spec.holder == "carrier" else reach,
             background=1.0 if dark else 0.1,
             rubber=0.08 if dark else 0.85,
             carrier=0.4 if dark else 0.5,
@@ -1498,8 +1523,6 @@ class _Clip:
         # Bubbles of the ice slab over the whole stretch of track the camera can see:
         # radius 0.05-0.3 mm as in the TIR view, 0.3-5 mm below the surface, brighter
         # than the ice by 15-40 % (they scatter the backlight towards the camera).
-        v_max = max(spec.velocity_mps, spec.velocity_step_to_mps or 0.0)
-        travel = v_max * 1e3 * spec.duration_s
         span = w_mm + 2.0 * travel
         n_b = round(cam.n_bubbles * span / w_mm)
         bubbles = np.column_stack(

@@ -11,11 +11,13 @@ Metadata (:mod:`tir_contact.meta`)
     :func:`load_meta`.
 Reference and segmentation (:mod:`tir_contact.flatfield`, :mod:`tir_contact.segment`)
     :func:`reference_from_frames`, :func:`reference_from_frame`, :func:`darkness`,
-    :class:`Reference`, :func:`segment_frame`, :class:`FrameContact`, :func:`region_table`.
+    :class:`Reference`, :func:`segment_frame`, :class:`FrameContact`, :func:`region_table`;
+    a user's reference fitted to the footage (:mod:`tir_contact.reference_fit`):
+    :func:`fit_reference`, :class:`ReferenceFit`.
 Features (:mod:`tir_contact.features`, :mod:`tir_contact.side`)
     :class:`BlockLayout`, :func:`tir_frame_features`, :func:`tir_frame_records`,
     :class:`FrameFeatures`, :func:`side_frame_features`, :func:`side_darkness`,
-    :func:`ice_line_y_px`, :class:`SideFeatures`.
+    :func:`ice_line_y_px`, :func:`block_span_px`, :class:`SideFeatures`.
 Whole videos and batches (:mod:`tir_contact.analyze`, :mod:`tir_contact.batch`)
     :func:`analyze_video`, :class:`AnalysisOptions`, :class:`VideoAnalysis`,
     :func:`find_footage`, :func:`analyze_batch`, :class:`BatchReport`.
@@ -49,6 +51,8 @@ _LAZY = {
     "darkness": "tir_contact.flatfield",
     "reference_from_frame": "tir_contact.flatfield",
     "reference_from_frames": "tir_contact.flatfield",
+    "ReferenceFit": "tir_contact.reference_fit",
+    "fit_reference": "tir_contact.reference_fit",
     "FrameContact": "tir_contact.segment",
     "segment_frame": "tir_contact.segment",
     "open_footage": "tir_contact.io",
@@ -61,6 +65,7 @@ _LAZY = {
     "side_darkness": "tir_contact.side",
     "side_frame_features": "tir_contact.side",
     "ice_line_y_px": "tir_contact.side",
+    "block_span_px": "tir_contact.side",
     "AnalysisOptions": "tir_contact.analyze",
     "VideoAnalysis": "tir_contact.analyze",
     "analyze_video": "tir_contact.analyze",

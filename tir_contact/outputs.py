@@ -326,6 +326,8 @@ def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
             "method": setup.reference_method,
             "n_frames": ref.n_frames if ref is not None else 1,
             "excluded_fraction": ref.excluded_fraction if ref is not None else None,
+            **({"fit": setup.reference_fit.as_dict()} if setup.reference_fit is not None
+               else {}),
         },
         "camera": setup.camera,
         **_tir_assumptions(setup),

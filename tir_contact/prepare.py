@@ -7,6 +7,7 @@ and returns a :class:`VideoSetup`, everything the per-frame step
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from collections.abc import Mapping
@@ -16,8 +17,10 @@ from typing import Any
 
 import cv2
 import numpy as np
+from scipy.stats import norm
 
 from tir_contact._darkness import Normaliser
+from tir_contact._percentile import pixelwise_percentile
 from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.features import BlockLayout
 from tir_contact.flatfield import Reference, reference_from_frames
@@ -25,8 +28,9 @@ from tir_contact.illumination import lit_zone_from_file
 from tir_contact.meta import META_FILENAME, clip_footage, find_meta, load_meta, read_meta_json
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
+from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
 from tir_contact.segment import estimate_contrast
-from tir_contact.side import ice_line_tilt_deg, ice_line_y_px, level_image
+from tir_contact.side import block_span_px, ice_line_tilt_deg, ice_line_y_px, level_image
 
 __all__ = [
     "VideoSetup",
@@ -144,6 +148,55 @@ def _frames_differ(samples: list[np.ndarray], reference: Reference, contact_is: 
         cv2.MORPH_OPEN, kernel)) > need for f in samples)
 
 
+#: A side-view block translates (the camera is fixed) when an end of its base moves by more
+#: than this share of the base's length in view across the sampled frames. The base is
+#: rigid; under a camera that follows the block it only shakes on the rig's compliance (a
+#: velocity step from 0.5 to 3 m/s shakes G3's base by 0.2 mm, 1 % of its length, in the
+#: renders), while the elements shear and bend (their edges sweep millimetres). A block
+#: that moves by less than a tenth of its length over the whole video is as good as still
+#: (a static test).
+TRANSLATION_SHARE = 0.1
+
+
+def _block_translates(samples: list[np.ndarray], contact_is: str) -> bool | None:
+    """Whether the block of a side view translates through the sampled frames: it is
+    missing from some but not all of them, or an end of its base
+    (:func:`tir_contact.side.block_span_px`; one at the image border counts as there)
+    moves by more than :data:`TRANSLATION_SHARE` of the base's length in view. None when
+    no sample shows it."""
+    spans = [block_span_px(f, contact_is=contact_is) for f in samples]
+    seen = np.array([sp for sp in spans if sp is not None], float).reshape(-1, 2)
+    if not len(seen):
+        return None
+    if len(seen) < len(spans):
+        return True
+    # an end at the border (NaN) lies at least there
+    ends = np.where(np.isnan(seen), [0.0, samples[0].shape[1] - 1.0], seen)
+    length = float(np.median(ends[:, 1] - ends[:, 0]))
+    return bool(np.ptp(ends, axis=0).max() > TRANSLATION_SHARE * length)
+
+
+def _side_mode(samples: list[np.ndarray], reference: Reference, contact_is: str,
+               options: AnalysisOptions) -> tuple[Reference | None, str, str]:
+    """A side view's camera mode and reference (`reference`: the samples' percentile image).
+
+    ``"fixed"`` when the block translates (:func:`_block_translates`; when no sample shows
+    a block, when some sampled frame differs from the percentile image at all); the
+    percentile image is the reference unless it still shows the block (a block that never
+    leaves the view), when each frame is normalised by its own background
+    (:func:`tir_contact.side.side_darkness`). ``"follows"`` otherwise: the block stays
+    where it is, only its elements deform, and no frame shows the background behind it.
+    """
+    translates = _block_translates(samples, contact_is)
+    if translates is None:  # no block in any sample: does anything differ at all?
+        translates = _frames_differ(samples, reference, contact_is, options)
+    if not translates:
+        return None, "per-frame background (the block does not translate)", "follows"
+    if block_span_px(reference.image, contact_is=contact_is) is not None:
+        return None, "per-frame background (the block never leaves the view)", "fixed"
+    return reference, "percentile", "fixed"
+
+
 @dataclass
 class VideoSetup:
     """What is fixed for all frames of one video (:func:`prepare_video`).
@@ -183,6 +236,9 @@ class VideoSetup:
         Side view turned level: the pixels that come from inside the frame.
     notes : list of str
         Warnings found while preparing (``summary.json`` lists them).
+    reference_fit : ReferenceFit or None
+        TIR with ``--reference``: gain, shift and residual of the user's image fitted to
+        the footage (:func:`tir_contact.reference_fit.fit_reference`).
     """
     meta: dict[str, Any]
     view: str
@@ -206,6 +262,7 @@ class VideoSetup:
     level_deg: float = 0.0  # side view: tilt of the ice line; frames are turned level by it
     level_valid: np.ndarray | None = None  # side view: pixels inside the frame once turned
     notes: list[str] = field(default_factory=list)  # what the user must know (warnings)
+    reference_fit: ReferenceFit | None = None  # TIR: the user's reference fitted (gain, shift)
 
 
 def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
@@ -269,8 +326,11 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
     reference: Reference | None
     tref: TirReference | None = None
+    side_camera: str | None = None
+    ref_fit: ReferenceFit | None = None
+    fit_notes: list[str] = []
     if view == "tir":
-        tref = _tir_reference(samples, shape, contact_is, options)
+        tref, ref_fit, fit_notes = _tir_reference(samples, shape, contact_is, options)
         reference, method = tref.reference, tref.method
     elif options.reference is not None:
         reference = _read_reference_file(options.reference, shape)
@@ -279,15 +339,11 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         reference = reference_from_frames(samples, contact_is=contact_is,
                                           percentile=options.percentile)
         method = "percentile"
-        if options.camera == "auto" and not _frames_differ(samples, reference, contact_is,
-                                                           options):
-            # no sampled frame differs from the percentile image: the block is in every frame
-            # (a camera following the block) or in none; the side view then normalises each
-            # frame by its own background (tir_contact.side.side_darkness)
-            reference, method = None, "per-frame background (no frame without the block)"
+        if options.camera == "auto":
+            reference, method, side_camera = _side_mode(samples, reference, contact_is, options)
     else:
         reference, method = None, f"per-frame background ({len(samples)} frame(s) sampled)"
-    level_deg, level_valid, notes = 0.0, None, []
+    level_deg, level_valid, notes = 0.0, None, list(fit_notes)
     if view == "side":
         # without a reference, the median of a few samples shows the block where it stays
         median = (np.median(np.stack(samples[:9]).astype(np.float32), axis=0)
@@ -306,17 +362,20 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         tref = measurable(tref, threshold, n_sigma=options.noise_sigmas)
         reference = tref.reference
     layout = BlockLayout.from_meta(meta)
-    camera = tref.camera if tref is not None else (
+    camera = tref.camera if tref is not None else side_camera or (
         "fixed" if reference is not None else "follows")
     return VideoSetup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
                   reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
-                  grey_range, camera, tref, threshold, level_deg, level_valid, notes)
+                  grey_range, camera, tref, threshold, level_deg, level_valid, notes,
+                  ref_fit)
 
 
-#: A side view without a block-free frame needs the block to leave free background beside
-#: it: above this share of the image width a warning is given (G3 in a 30 mm view, 74 %,
-#: still measures every angle; in a 20 mm view, 100 %, none).
-MAX_SIDE_BLOCK_SHARE = 0.8
+#: A side view without a block-free frame needs the block to leave some background beside
+#: it in each row (its rows are two-toned, :func:`tir_contact.side.side_darkness`): above
+#: this share of the image width a warning is given (G3 following camera with a holder
+#: plate across the frame: 96 % of the width still measures every element in view, 89 %
+#: with the same errors as 62 %, 0.002-0.005 deg median).
+MAX_SIDE_BLOCK_SHARE = 0.97
 
 
 def _wide_block_note(image: np.ndarray, contact_is: str) -> list[str]:
@@ -324,10 +383,12 @@ def _wide_block_note(image: np.ndarray, contact_is: str) -> list[str]:
     the median of some frames)."""
     if contact_is == "bright":  # bright rubber on a dark background: mirror it
         image = float(image.max()) - image
-    # rubber (and carrier): below half the backlight's level (the image's 95th percentile);
-    # the ice, about 0.6 of the backlight, is not
-    rubber = image < 0.5 * float(np.percentile(image, 95))
-    share = float((rubber.mean(axis=0) > 0.2).mean())
+    # rubber: below a quarter of the backlight's level (the image's 95th percentile); a
+    # steel holder, plate or carriage (about 0.4 of it) and the ice (0.6) are not
+    rubber = image < 0.25 * float(np.percentile(image, 95))
+    cols = np.flatnonzero(rubber.mean(axis=0) > 0.05)
+    # from the first to the last column with rubber (sipes between the elements included)
+    share = (float(cols[-1] - cols[0] + 1) / image.shape[1]) if cols.size else 0.0
     if share <= MAX_SIDE_BLOCK_SHARE:
         return []
     return [f"the block spans {100 * share:.0f} % of the image width and no frame shows the "
@@ -391,16 +452,83 @@ def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) ->
 
 
 def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
-                   options: AnalysisOptions) -> TirReference:
+                   options: AnalysisOptions
+                   ) -> tuple[TirReference, ReferenceFit | None, list[str]]:
     """Lit zone, camera mode, free surface and noise (:func:`tir_contact.reference.tir_reference`)
-    with the user's lit mask and reference image, when given."""
+    with the user's lit mask and reference image, when given.
+
+    A user's reference is first fitted to the footage (gain and shift,
+    :func:`tir_contact.reference_fit.fit_reference`) against the footage's own estimate;
+    a reference that does not fit is not used (a warning says so, naming the file and the
+    residual), and the footage's own estimate stands.
+    """
     lit = lit_zone_from_file(options.lit_mask, shape) if options.lit_mask else None
-    image = (_read_reference_file(options.reference, shape).image
-             if options.reference is not None else None)
+    kwargs = dict(contact_is=contact_is, percentile=options.percentile,
+                  min_darkness=options.min_darkness,
+                  min_block_fraction=options.min_block_fraction)
     try:
-        return tir_reference(samples, contact_is=contact_is, percentile=options.percentile,
-                             camera=options.camera, lit=lit, image=image,
-                             min_darkness=options.min_darkness,
-                             min_block_fraction=options.min_block_fraction)
+        own = tir_reference(samples, camera=options.camera, lit=lit, **kwargs)
+        if options.reference is None:
+            return own, None, []
+        raw = _read_reference_file(options.reference, shape).image
+        fit = fit_reference(raw, _free_image(samples, own, contact_is, options.percentile),
+                            noise=own.noise, lit=own.lit.mask, contact_is=contact_is)
+        if not fit.fits:
+            note = (f"{options.reference}: the reference image does not fit the footage: "
+                    f"after the best gain ({fit.gain:.3f}) and shift ({fit.shift_px[0]:+.2f}, "
+                    f"{fit.shift_px[1]:+.2f}) px its residual on the free surface is "
+                    f"{fit.residual_rms:.3f} in darkness, {fit.noise_ratio:.1f} times the "
+                    f"noise (at most {MAX_NOISE_RATIO:g}); it was not used, the free surface "
+                    "was estimated from the footage")
+            own = dataclasses.replace(own, method=own.method + " (the --reference image "
+                                      "did not fit)")
+            return own, fit, [note]
+        # where the shifted reference has no data (a strip along the border), the
+        # footage's own estimate
+        image = np.where(fit.inside, fit.image, own.reference.image.astype(np.float32))
+        tref = tir_reference(samples, camera=options.camera, lit=own.lit, image=image,
+                             **kwargs)
+        method = (f"file, fitted: gain {fit.gain:.3f}, shift ({fit.shift_px[0]:+.2f}, "
+                  f"{fit.shift_px[1]:+.2f}) px")
+        return dataclasses.replace(tref, method=method), fit, []
     except ValueError as exc:
         raise FootageError(str(exc), options.lit_mask) from exc
+
+
+def _free_image(samples: list[np.ndarray], own: TirReference, contact_is: str,
+                percentile: float) -> np.ndarray:
+    """The footage's free surface wherever it shows, for fitting a user's reference.
+
+    A block passing a fixed camera may cover a pixel in most frames: there each pixel's
+    bright `percentile` over the samples, less its expected excess over the mean (the
+    normal order statistic times the noise, :func:`_percentile_excess`); a static scene:
+    each pixel's median.
+    """
+    if len(samples) == 1:
+        return np.asarray(samples[0], np.float32)
+    if own.camera == "fixed" and len(samples) >= 5:
+        q = percentile if contact_is == "dark" else 100.0 - percentile
+        image = np.asarray(pixelwise_percentile(samples, q), np.float32)
+        excess = _percentile_excess(len(samples), q) * own.noise.sigma_grey(image)
+        return (image - excess).astype(np.float32)
+    return np.asarray(pixelwise_percentile(samples, 50.0), np.float32)
+
+
+def _percentile_excess(n: int, q: float) -> float:
+    """Expected `q`-th percentile (linear interpolation, as numpy's) of `n` standard normal
+    values: Blom's approximation ``Phi^-1((i - 0.375) / (n + 0.25))`` of the order
+    statistics either side, interpolated.
+
+    Examples
+    --------
+    >>> round(_percentile_excess(32, 90.0), 2), _percentile_excess(7, 50.0)  # Monte Carlo: 1.201
+    (1.2, 0.0)
+    """
+    pos = q / 100.0 * (n - 1)
+    i = min(math.floor(pos), n - 1)
+    f = pos - i
+
+    def blom(k: int) -> float:  # k 0-based
+        return float(norm.ppf((k + 1 - 0.375) / (n + 0.25)))
+
+    return (1 - f) * blom(i) + (f * blom(i + 1) if f > 0 else 0.0)

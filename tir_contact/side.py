@@ -118,6 +118,7 @@ __all__ = [
     "ElementEdges",
     "SideFeatures",
     "SideLayoutLike",
+    "block_span_px",
     "ice_line_y_px",
     "side_darkness",
     "side_frame_features",
@@ -250,12 +251,57 @@ def _row_levels(img: np.ndarray, contact_is: str) -> np.ndarray:
     return np.percentile(img[:, ::step], q, axis=1)
 
 
+#: A row whose darkest and brightest pixels (5th and 99th percentile) differ by more than
+#: this share of the brighter is two-toned (rubber and backlight): its background is the
+#: median of its brighter class, however much of the row the block covers.
+_TWO_TONED = 0.5
+
+
+def _background_levels(img: np.ndarray, contact_is: str) -> np.ndarray:
+    """Per-row level of the background (backlight, holder, ice) behind a side view's block.
+
+    Each row's level is its 75th percentile (25th for bright rubber, :func:`_row_levels`),
+    which is background while the block covers less than a quarter of the row. A row that
+    holds rubber and backlight is two-toned (:data:`_TWO_TONED`): its level is at least
+    (bright rubber: at most) the median of the pixels on the background's side of the
+    midpoint between its 5th and 99th percentile, which holds while any backlight shows
+    beside the block (a block spanning 90 % of the width, a holder plate across the whole
+    frame above it). Rows without rubber (a plate or carriage across the width, the ice,
+    the backlight alone) keep the percentile.
+    """
+    step = max(1, img.shape[1] // 160)
+    sub = img[:, ::step].astype(np.float32)
+    lo, hi = np.percentile(sub, [5.0, 99.0], axis=1)
+    levels = _row_levels(img, contact_is)
+    two = hi - lo > _TWO_TONED * np.maximum(hi, 1e-6)
+    if not two.any():
+        return levels
+    mid = 0.5 * (lo + hi)[two, None]
+    rows = sub[two]
+    side = rows > mid if contact_is == "dark" else rows < mid
+    cls = np.nanmedian(np.where(side, rows, np.nan), axis=1)
+    # the percentile stands while it lies in the background's class beyond its median
+    # (the block covers under half the row): the same numbers as before for such rows
+    levels[two] = (np.maximum if contact_is == "dark" else np.minimum)(levels[two], cls)
+    return levels
+
+
+#: The ice line is the lowest step of the row levels at least this share of the strongest
+#: (a holder plate across the frame above the block steps more than the ice surface).
+_ICE_STEP_SHARE = 0.5
+
+
 def _step_crossing(profile: np.ndarray) -> float:
-    """Sub-pixel position (index coordinates) of the strongest step of a 1-D profile."""
+    """Sub-pixel position (index coordinates) of the lowest step (highest index) of a 1-D
+    profile that is at least :data:`_ICE_STEP_SHARE` of its strongest."""
     n = profile.shape[0]
     grad = np.zeros(n)
     grad[2:-2] = profile[4:] - profile[:-4]
-    r = int(np.argmax(np.abs(grad)))
+    mag = np.abs(grad)
+    r = int(np.argmax(mag))
+    peak = (mag >= _ICE_STEP_SHARE * mag[r]) & (mag >= np.roll(mag, 1)) & (
+        mag >= np.roll(mag, -1))
+    r = max(r, int(np.flatnonzero(peak)[-1]))
     lo_a, lo_b = max(r - 8, 0), max(r - 3, 1)
     hi_a, hi_b = min(r + 4, n - 1), min(r + 9, n)
     above = float(np.median(profile[lo_a:lo_b]))
@@ -274,7 +320,9 @@ def ice_line_y_px(image: np.ndarray, *, contact_is: str = "dark") -> float:
 
     The per-row level of the background and ice (a percentile over the columns that
     ignores the block) steps at the ice surface; the line is the half-level crossing of
-    that step, with the mixed row counted by its level (sub-pixel).
+    that step, with the mixed row counted by its level (sub-pixel). The ice lies below
+    everything else: of the steps at least half as strong as the strongest (a holder
+    plate across the frame steps more), the lowest is taken.
 
     Parameters
     ----------
@@ -443,13 +491,68 @@ def side_darkness(
     if reference is not None:
         return darkness(img, reference, contact_is=contact_is)
     img = img.astype(np.float32)
-    levels = _row_levels(img, contact_is)
+    levels = _background_levels(img, contact_is)
     shape = _illumination_shape(img, levels)
-    levels = _row_levels(img / shape, contact_is)
+    levels = _background_levels(img / shape, contact_is)
     bg = np.maximum(shape * levels[:, None].astype(np.float32), np.float32(1e-6))
     ratio = img / bg
     d = 1.0 - ratio if contact_is == "dark" else ratio - 1.0
     return d.astype(np.float32)
+
+
+#: Darkness level below which :func:`block_span_px` sees no rubber: dark rubber reflects
+#: under a quarter of the backlight (0.92 in the renders), dust and bubbles remove at most
+#: about a third of the light, a steel holder 0.6.
+_RUBBER_LEVEL = 0.7
+
+
+def block_span_px(
+    frame: np.ndarray, *, contact_is: str = "dark", min_darkness: float = 0.3
+) -> tuple[float, float] | None:
+    """Left and right end (columns) of the block base in a side-view frame, or None.
+
+    The frame is normalised by its own background (:func:`side_darkness`); the rubber is
+    darkness above half its level (as in :func:`side_frame_features`; no rubber when that
+    level is under :data:`_RUBBER_LEVEL`, 3 x 3 specks dropped), and the block base
+    is the rows holding the most rubber: the rigid part of the block between its holder and
+    the elements, as long as the block (the carrier, the holder plate and the carriage
+    above it read as less than rubber or as background). An end at the image border is
+    NaN (it may lie outside).
+
+    Returns
+    -------
+    (float, float) or None
+        Median over the base rows of the first and last rubber column; None when the frame
+        shows no rubber.
+
+    Examples
+    --------
+    >>> img = np.full((40, 80), 200.0)
+    >>> img[10:14, 20:60] = 15.0            # base
+    >>> img[14:30, 20:28] = img[14:30, 40:48] = 15.0   # two elements
+    >>> block_span_px(img)
+    (20.0, 59.0)
+    """
+    d = side_darkness(frame, contact_is=contact_is)
+    hi = d[d > min_darkness]
+    if hi.size < 8:
+        return None
+    p95 = float(np.percentile(hi, 95))
+    level = float(np.median(hi[hi > 0.8 * p95]))
+    if level < _RUBBER_LEVEL:
+        return None  # dust, bubbles or steel: nothing as dark as rubber
+    # a 3 x 3 opening drops specks and one-pixel lines; the block is a region
+    rubber = cv2.morphologyEx((d > 0.5 * level).astype(np.uint8), cv2.MORPH_OPEN,
+                              np.ones((3, 3), np.uint8)).astype(bool)
+    count = rubber.sum(axis=1)
+    if count.max() < 3:
+        return None
+    rows = np.nonzero(count >= 0.9 * count.max())[0]
+    cols = [np.nonzero(rubber[r])[0] for r in rows]
+    left = float(np.median([c[0] for c in cols]))
+    right = float(np.median([c[-1] for c in cols]))
+    w = d.shape[1]
+    return (math.nan if left <= 0 else left, math.nan if right >= w - 1 else right)
 
 
 def _empty(listed: np.ndarray | None = None) -> SideFeatures:
