@@ -26,6 +26,10 @@ ISSUE_ELEMENT_COLUMNS = [
     "frame", "time_s", "element", "contact_area_mm2", "contact_length_mm", "front_edge_x_mm",
     "front_peak_x_mm", "front_peak_contrast", "liftoff_mm", "deflection_angle_deg",
 ]
+# the full lists docs/formats.md publishes (TIR clip), in order
+DOC_FRAME_COLUMNS = [*ISSUE_FRAME_COLUMNS, "block_fully_in_view", "n_regions",
+                     "deflection_angle_deg", "tip_deflection_mm", "contact_at_lit_rim"]
+DOC_ELEMENT_COLUMNS = [*ISSUE_ELEMENT_COLUMNS, "front_peak_width_mm", "tip_deflection_mm"]
 FAST = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0, parquet=False)
 
 
@@ -58,11 +62,10 @@ def test_outputs_have_the_issue_columns_and_files(analysed):
     _, res = analysed
     frames = pd.read_csv(res / "frames.csv")
     elements = pd.read_csv(res / "elements.csv")
-    assert list(frames.columns[:9]) == ISSUE_FRAME_COLUMNS
-    assert list(elements.columns[:10]) == ISSUE_ELEMENT_COLUMNS
-    assert list(frames.columns) == FRAME_COLUMNS[: len(frames.columns)] or set(
-        FRAME_COLUMNS) <= set(frames.columns)
-    assert set(ELEMENT_COLUMNS) <= set(elements.columns)
+    # exact lists, in order: a reordered, renamed, missing or extra column fails
+    assert list(frames.columns) == DOC_FRAME_COLUMNS
+    assert list(elements.columns) == DOC_ELEMENT_COLUMNS
+    assert FRAME_COLUMNS == DOC_FRAME_COLUMNS and ELEMENT_COLUMNS == DOC_ELEMENT_COLUMNS
     assert not (res / "regions.csv").exists()  # with block geometry only on request
     for name in ("summary.json", "contact.png", "elements.png", "overlay.avi"):
         assert (res / name).is_file(), name
@@ -73,6 +76,20 @@ def test_outputs_have_the_issue_columns_and_files(analysed):
     assert summary["steady"]["n_frames"] == summary["frames_with_whole_block"] > 0
     # no staging folders left behind
     assert not [p for p in res.parent.iterdir() if p.name.startswith(".")]
+
+
+def test_parquet_copies_hold_the_csv_tables(analysed):
+    """The `parquet` extra's output: frames/elements.parquet, the same rows and columns as the
+    CSV tables (CI installs the extra, tests/test_ci_extras.py; skips only without pyarrow)."""
+    pytest.importorskip("pyarrow", reason="needs the parquet extra")
+    _, res = analysed
+    for stem, columns in (("frames", DOC_FRAME_COLUMNS), ("elements", DOC_ELEMENT_COLUMNS)):
+        pq = pd.read_parquet(res / f"{stem}.parquet")
+        csv = pd.read_csv(res / f"{stem}.csv")
+        assert list(pq.columns) == columns
+        assert len(pq) == len(csv) > 0
+        # the CSV keeps 6 significant digits (%.6g): rtol 1e-5 covers it; dtypes may differ
+        pd.testing.assert_frame_equal(pq, csv, check_dtype=False)
 
 
 def test_area_against_ground_truth(analysed):

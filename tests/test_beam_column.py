@@ -3,8 +3,10 @@ the printed Eq. 5.25/5.26 (``thesis_literal``).
 
 Independent truths: the closed-form static deflection of a cantilever beam-column under a
 transverse tip force, a tip moment and a vertical (dead) compressive force, its closed-form
-buckling load (Haringx / Engesser, Bazant & Cedolin section 1.7), and conservation of the
-mechanical energy of the undamped, frictionless, loaded element. Tolerances: the
+buckling load (Haringx / Engesser, Bazant & Cedolin section 1.7), both checked in turn against
+a numerical solution of the beam-column ODE written here from equilibrium and the two shear
+laws (``scipy.integrate.solve_bvp``, section properties computed here from E, nu, l, w), and
+conservation of the mechanical energy of the undamped, frictionless, loaded element. Tolerances: the
 finite-difference grid is second order (error ~ (h/d)^2 / 4, 3.5e-4 at 41 nodes, measured
 here by the observed order), the time integration runs at rtol 1e-10.
 """
@@ -16,7 +18,7 @@ import math
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
-from scipy.integrate import solve_ivp
+from scipy.integrate import solve_bvp, solve_ivp
 
 from friction_model.contact.laws import ConstantLaw
 from friction_model.dynamics.timoshenko import (
@@ -100,6 +102,105 @@ def test_buckling_load_matches_closed_form(form, k_root):
     p = params(beam_column=form, root_stiffness_Nm_per_rad=k_root)
     # O(h^2) grid error, 2e-4 at 40 nodes
     assert fdm_buckling_load(p) == pytest.approx(buckling_load(p), rel=1e-3)
+
+
+# -- an independent reference: the beam-column ODE solved numerically ------------------------
+# Cantilever of height d along x, root at x = 0, tip at x = d. Unknowns r (lateral
+# deflection), phi (cross-section rotation), m = EI phi' (bending moment). Dead loads at the
+# tip: lateral P, moment M, compressive vertical N. Equilibrium of the part beyond x (global
+# frame): m' = -P - N r'. Shear law: the shear force carried by the section is the part of the
+# tip load normal to the rotated section (Haringx: Q = P + N phi) or normal to the deformed
+# axis (Engesser: Q = P + N r'), with Q = kGA (r' - phi). Root: r = 0 and m = k phi (clamped:
+# phi = 0); tip: m = M. Written independently of the closed form's reduction to
+# phi'' + a^2 phi = -a^2 P / N.
+E_REF, NU_REF, L_REF, W_REF, D_REF = 3.61e6, 0.5, 4.55e-3, 80e-3, 6e-3
+
+
+def _section(E=E_REF, nu=NU_REF, length=L_REF, w=W_REF):
+    """EI (bending about the axis across the 80 mm width) and kappa G A (Cowper, nu)."""
+    G = E / (2 * (1 + nu))
+    kappa = 10 * (1 + nu) / (12 + 11 * nu)
+    return E * w * length**3 / 12, kappa * G * w * length
+
+
+def _slope(form, phi, P, N, kGA):
+    if form == "haringx":  # kGA (r' - phi) = P + N phi
+        return phi + (P + N * phi) / kGA
+    return (kGA * phi + P) / (kGA - N)  # kGA (r' - phi) = P + N r'
+
+
+def _root(ya, k_root):
+    return ya[1] if k_root is None else ya[2] - k_root * ya[1]
+
+
+def bvp_tip(form, P, M, N, k_root=None):
+    """Tip (r, phi) of the loaded beam-column by solve_bvp (residual tol 1e-10)."""
+    EI, kGA = _section()
+
+    def fun(x, y):
+        dr = _slope(form, y[1], P, N, kGA)
+        return np.vstack([dr, y[2] / EI, -P - N * dr])
+
+    x = np.linspace(0.0, D_REF, 41)
+    sol = solve_bvp(fun, lambda ya, yb: np.array([ya[0], _root(ya, k_root), yb[2] - M]), x,
+                    np.zeros((3, x.size)), tol=1e-10, max_nodes=100_000)
+    assert sol.success, sol.message
+    return sol.sol(D_REF)[0], sol.sol(D_REF)[1]
+
+
+def bvp_buckling_load(form, k_root=None):
+    """Smallest N with a non-trivial unloaded solution (phi(d) = 1), by solve_bvp with N as
+    the unknown parameter, started from the clamped Euler mode at half its load."""
+    EI, kGA = _section()
+
+    def fun(x, y, p):
+        dr = _slope(form, y[1], 0.0, p[0], kGA)
+        return np.vstack([dr, y[2] / EI, -p[0] * dr])
+
+    def bc(ya, yb, p):
+        return np.array([ya[0], _root(ya, k_root), yb[2], yb[1] - 1.0])
+
+    x = np.linspace(0.0, D_REF, 41)
+    q = 0.5 * math.pi / D_REF
+    y0 = np.vstack([(1 - np.cos(q * x)) / q, np.sin(q * x), EI * q * np.cos(q * x)])
+    sol = solve_bvp(fun, bc, x, y0, p=[0.5 * EI * q * q], tol=1e-10, max_nodes=100_000)
+    assert sol.success, sol.message
+    return float(sol.p[0])
+
+
+def test_reference_section_is_the_parameters_section():
+    # the reference's inputs are the parameters' raw geometry and material, nothing derived
+    p = params()
+    assert (p.E_Pa, p.poisson_ratio, p.length_m, p.width_m, p.height_m) == pytest.approx(
+        (E_REF, NU_REF, L_REF, W_REF, D_REF), rel=1e-15
+    )
+
+
+@pytest.mark.parametrize("form, k_root", FORMS)
+def test_closed_forms_match_the_numerical_beam_column_ode(form, k_root):
+    p = params(beam_column=form, root_stiffness_Nm_per_rad=k_root)
+    # buckling load: the ODE's eigenvalue; solve_bvp at residual 1e-10 (measured 2e-14)
+    assert buckling_load(p) == pytest.approx(bvp_buckling_load(form, k_root), rel=1e-8)
+    # deflection under P, M and N = 0.3 and 0.8 of the buckling load (amplified 1.4x / 4x)
+    for frac in (0.3, 0.8):
+        N = frac * buckling_load(p)
+        r, phi = beam_column_static(p, P_TIP, axial_force_N=N, moment_Nm=M_TIP)
+        r_ode, phi_ode = bvp_tip(form, P_TIP, M_TIP, N, k_root)
+        assert r == pytest.approx(r_ode, rel=1e-8)
+        assert phi == pytest.approx(phi_ode, rel=1e-8)
+
+
+def test_haringx_and_engesser_buckling_loads_differ_as_the_textbook_says():
+    # Bazant & Cedolin 1.7: for the same column Engesser's load lies below Haringx's, and
+    # both below Euler's pi^2 EI / (4 d^2) (the clamped-free column, kGA -> inf). Here
+    # P_E / kGA = 0.41, so the two differ by 7.5 %: a swapped pair of formulas fails.
+    EI, _ = _section()
+    P_E = math.pi**2 * EI / (4 * D_REF**2)
+    h, e = bvp_buckling_load("haringx"), bvp_buckling_load("engesser")
+    assert e < h < P_E
+    assert buckling_load(params(beam_column="haringx")) == pytest.approx(h, rel=1e-8)
+    assert buckling_load(params(beam_column="engesser")) == pytest.approx(e, rel=1e-8)
+    assert h / e - 1 > 0.05
 
 
 def test_closed_forms_reduce_to_known_limits():

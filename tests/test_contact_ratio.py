@@ -42,9 +42,18 @@ def test_contact_ratio_of_g0_and_g7_matches_fig_4_21():
 
 
 @pytest.mark.slow
-def test_element_real_contact_fractions_for_the_renderer():
-    a = element_real_contact_fractions("G3", 1.0, 2.5)
-    assert a.shape == (4,)
+@pytest.mark.parametrize("preset", ["G0", "G7"])
+def test_element_real_contact_fractions_for_the_renderer(preset):
+    # What the renderer draws, element by element: weighted by the element lengths it must
+    # give the sample's contact ratio, which Fig. 4.21 gives to +-0.05 (about 0.70 for G0,
+    # 0.25 for G7; predicted, nothing fitted to Fig. 4.21).
+    from friction_model import reference_block
+
+    geom = reference_block(preset)
+    a = element_real_contact_fractions(preset, 1.0, 2.5)
+    assert a.shape == (geom.n_elements,)
     assert np.all((a > 0) & (a <= 1))
+    ratio = float(np.sum(a * geom.element_lengths) / geom.length_mm)
+    assert ratio == pytest.approx({"G0": 0.70, "G7": 0.25}[preset], abs=0.05)
     a[0] = -1.0  # a copy: the cache is not changed
-    assert element_real_contact_fractions("G3", 1.0, 2.5)[0] > 0
+    assert element_real_contact_fractions(preset, 1.0, 2.5)[0] > 0

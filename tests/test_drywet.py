@@ -157,6 +157,24 @@ def test_wider_sipe_lets_ice_cool_more():
 # --- the trends listed at the start of section 4.5.1 ---------------------------------------
 
 
+# Sizes: the thesis's own numbers are Table 4.6's fits of G3 (Eq. 4.8 / 4.9). They are the
+# calibration's fit targets (docs/friction_model.md): the checks below hold the model to what
+# it was fitted to and to the shortfall the docs publish, they do not validate it. Tolerance:
+# a difference of two fitted values may be off by twice the worst curve's RMSE (0.0074)
+# plus a margin, 0.02.
+def table_4_6_mu(v, *, cold_dry=True, bar=2.5):
+    """Table 4.6: mu = A_D v^-0.5 + B_D (-5 degC, rH < 50 %) or A_I v^0.5 + B_I (-1 degC,
+    rH > 90 %), G3 at 2.5 or 5 bar; numbers typed from the thesis."""
+    if cold_dry:
+        a, b = {2.5: (0.2, 0.095), 5.0: (0.125, 0.05)}[bar]
+        return a / math.sqrt(v) + b
+    a, b = {2.5: (0.03, 0.075), 5.0: (0.02, 0.04)}[bar]
+    return a * math.sqrt(v) + b
+
+
+TREND_TOL = 0.02
+
+
 def test_velocity_cold_dry_decreasing_and_warm_humid_increasing():
     cold = [mu_of(velocity_mps=v) for v in (1, 2, 4, 7)]
     warm = [mu_of(velocity_mps=v, temperature_C=-1.0, humidity_pct=95.0) for v in (1, 2, 4, 7)]
@@ -165,24 +183,52 @@ def test_velocity_cold_dry_decreasing_and_warm_humid_increasing():
     # flat between 1 and 2 m/s (within 0.001) and rises clearly above.
     assert np.all(np.diff(warm[1:]) > 0)
     assert warm[-1] > warm[0] + 0.02
+    # size of the cold-dry fall from 1 to 7 m/s: Table 4.6 0.124 (model 0.114)
+    fall = table_4_6_mu(1) - table_4_6_mu(7)
+    assert cold[0] - cold[-1] == pytest.approx(fall, abs=TREND_TOL)
+    # the warm-humid rise is the model's published shortfall: 56 % of Table 4.6's 0.049 at
+    # 2.5 bar (docs/friction_model.md, "Warm-humid mechanism"; a strict xfail in
+    # test_calibration holds the full target). 0.45-0.70 brackets 56 %: a rise that
+    # vanishes, or one that overshoots the documented state, fails.
+    rise = table_4_6_mu(7, cold_dry=False) - table_4_6_mu(1, cold_dry=False)
+    assert 0.45 < (warm[-1] - warm[0]) / rise < 0.70
 
 
 @pytest.mark.parametrize(("v", "T"), [(1, -5.0), (3, -5.0), (7, -5.0), (1, -1.0), (7, -1.0)])
 def test_pressure_increase_lowers_friction(v, T):
-    values = [mu_of(velocity_mps=v, temperature_C=T, pressure_bar=p) for p in (1.0, 2.5, 5.0)]
+    rh = 40.0 if T == -5.0 else 95.0  # Table 4.6's two climates
+    values = [mu_of(velocity_mps=v, temperature_C=T, pressure_bar=p, humidity_pct=rh)
+              for p in (1.0, 2.5, 5.0)]
     assert np.all(np.diff(values) < 0)
+    # size from 2.5 to 5 bar: Table 4.6 (0.120 / 0.088 / 0.073 cold-dry at 1 / 3 / 7 m/s,
+    # 0.045 / 0.061 warm-humid at 1 / 7 m/s)
+    cold = T == -5.0
+    drop = table_4_6_mu(v, cold_dry=cold) - table_4_6_mu(v, cold_dry=cold, bar=5.0)
+    assert values[1] - values[2] == pytest.approx(drop, abs=TREND_TOL)
 
 
 @pytest.mark.parametrize("v", [1.0, 3.0])
 def test_colder_ice_gives_more_friction(v):
     values = [mu_of(velocity_mps=v, temperature_C=T) for T in (-10.0, -8.0, -4.0, -1.0)]
     assert np.all(np.diff(values) < 0)
+    # size: Table 4.6 changes temperature only together with humidity; from -5 degC / 40 %
+    # to -1 degC / 95 % mu falls by 0.190 at 1 m/s and 0.084 at 3 m/s (model 0.178 / 0.079)
+    cold, warm = mu_of(velocity_mps=v), mu_of(velocity_mps=v, temperature_C=-1.0,
+                                              humidity_pct=95.0)
+    drop = table_4_6_mu(v) - table_4_6_mu(v, cold_dry=False)
+    assert cold - warm == pytest.approx(drop, abs=TREND_TOL)
 
 
-@pytest.mark.parametrize("T", [-5.0, -3.0, -1.0])
-def test_humidity_reduces_friction(T):
+@pytest.mark.parametrize(("T", "published_pct"), [(-5.0, 1.1), (-3.0, 1.9), (-1.0, 4.7)])
+def test_humidity_reduces_friction(T, published_pct):
     values = [mu_of(velocity_mps=1.0, temperature_C=T, humidity_pct=rh) for rh in (20, 60, 100)]
     assert np.all(np.diff(values) < 0)
+    # size: the thesis gives no number for humidity alone (Fig. 4.14 only shows a clear
+    # drop), so the published size is the docs' (docs/friction_model.md, "Bound initial water
+    # layer": 20 -> 100 % lowers mu at 1 m/s by 1.1 / 1.9 / 4.7 %), to its rounding (+-0.1 %
+    # point) plus 0.1 % point; a humidity term ten times too strong or too weak fails.
+    drop_pct = 100.0 * (values[0] - values[-1]) / values[0]
+    assert drop_pct == pytest.approx(published_pct, abs=0.2)
 
 
 def test_humidity_effect_switch_is_exact():

@@ -321,10 +321,15 @@ def test_patchy_contact_ratio_follows_the_model_and_falls_from_g0_to_g7(patchy_r
         np.testing.assert_allclose(ratio, model[preset], atol=tol)
     g0, g7 = patchy_ratios["G0"][1], patchy_ratios["G7"][1]
     assert g0 > g7 + 0.3
-    # Fig. 4.21: about 0.70 (G0) and 0.25 (G7), read from the figure to +-0.05; the models
-    # (rigid block, real_contact_fraction) reproduce them to another 0.05.
+    # Fig. 4.21: about 0.70 (G0) and 0.25 (G7), read from the figure to +-0.05, the accuracy
+    # the README claims for the models (rigid block, real_contact_fraction; predicted, not
+    # fitted to Fig. 4.21). The rendered footage's ratio (the truth a TIR analysis would
+    # measure) is held to the same +-0.05 plus its sampling tolerance.
     for preset in ("G0", "G7"):
-        np.testing.assert_allclose(model[preset], THESIS_CONTACT_RATIO[preset], atol=0.1)
+        np.testing.assert_allclose(model[preset], THESIS_CONTACT_RATIO[preset], atol=0.05)
+        tol = _sample_tol(0.7, patchy_ratios[preset][2]["nominal_contact_area_mm2"], 0.1)
+        np.testing.assert_allclose(patchy_ratios[preset][1], THESIS_CONTACT_RATIO[preset],
+                                   atol=0.05 + tol)
 
 
 def test_patchy_image_darkness_integrates_to_the_real_area(patchy_ratios):

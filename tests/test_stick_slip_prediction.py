@@ -59,11 +59,23 @@ def test_predicted_case_is_an_unexplained_residual():
     assert result.missing_effects == ()
     assert result.verdict.startswith("unexplained residual")
     assert result.gap_before_Hz == pytest.approx(1500.0 - f_pred, rel=1e-12)
+    # independent of the constants the code reads: the rig's 1500 Hz (section 5.3.2) against
+    # the README's published 826 Hz (held to the model by the slow recomputation below)
+    assert result.gap_before_Hz == pytest.approx(1500.0 - 826.0, abs=1e-9)
     assert result.gap_after_Hz == result.gap_before_Hz
+    # the gap in units of the stated uncertainty: rounding of the rig value (50 Hz wide,
+    # uniform), the k4 range 793-857 Hz (uniform), the method's 5 Hz, typed from the README
+    sigma = np.sqrt((50 / np.sqrt(3)) ** 2 + ((857 - 793) / 2 / np.sqrt(3)) ** 2 + 5**2)
+    assert result.chi2_base == pytest.approx((674.0 / sigma) ** 2, rel=1e-9)  # 19.5 sigma
     fit = result.candidates["frequency_dependent_modulus"]
     # the loaded element's limit cycle passes 1500 Hz between the frozen s = 0.5 (1191 Hz)
     # and s = 1.0 (1547 Hz): the fitted extra strength lies there, above the plausible cap
     assert 0.5 < fit["value"] < 1.0
+    # the chord between the two frozen points reaches 1500 Hz at s = 0.934; the table's
+    # slopes on either side (712 and 586 Hz per unit s) bend the curve through the points
+    # by less than 0.02 in s there
+    chord = 0.5 + 0.5 * (1500.0 - 1190.9) / (1547.0 - 1190.9)
+    assert fit["value"] == pytest.approx(chord, abs=0.02)
     assert problem.predict(np.empty(0), {"frequency_dependent_modulus": (fit["value"],)})[
         0
     ] == pytest.approx(1500.0, abs=1e-3)
