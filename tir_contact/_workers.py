@@ -2,7 +2,8 @@
 
 A worker that outlives its parent (the parent killed with ``kill -9``) would finish its
 video and then wait forever for work. Each worker therefore watches the process that
-started the batch and exits as soon as it is gone.
+started the batch and exits as soon as it is gone. Workers ignore Ctrl-C (SIGINT): the
+batch's process alone decides, and ends them (:func:`end_workers`) when it is interrupted.
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from __future__ import annotations
 import logging
 import multiprocessing
 import os
+import signal
 import sys
 import threading
 from multiprocessing.context import BaseContext
@@ -18,7 +20,7 @@ import cv2
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["context", "init_worker", "parent_alive"]
+__all__ = ["children", "context", "end_workers", "init_worker", "parent_alive"]
 
 #: Seconds between two looks at the parent.
 WATCH_INTERVAL_S = 0.5
@@ -59,6 +61,29 @@ def parent_alive(pid: int) -> bool:
     return True
 
 
+def children() -> set[multiprocessing.process.BaseProcess]:
+    """The worker processes this process has started and that still run."""
+    return set(multiprocessing.active_children())
+
+
+def end_workers(before: set[multiprocessing.process.BaseProcess],
+                timeout_s: float = 5.0) -> None:
+    """End the worker processes started since `before` (:func:`children`) was taken.
+
+    Each gets SIGTERM (a video half done leaves only a hidden staging folder, which
+    :func:`tir_contact._outdir.remove_stale_temporaries` removes once the worker is gone);
+    one still alive after `timeout_s` gets SIGKILL.
+    """
+    mine = [p for p in multiprocessing.active_children() if p not in before]
+    for p in mine:
+        p.terminate()
+    for p in mine:
+        p.join(timeout_s)
+        if p.is_alive():
+            p.kill()
+            p.join()
+
+
 def _watch(pid: int) -> None:
     event = threading.Event()
     while not event.wait(WATCH_INTERVAL_S):
@@ -67,7 +92,8 @@ def _watch(pid: int) -> None:
 
 
 def init_worker(parent_pid: int) -> None:
-    """Initialise a worker: one OpenCV thread, and exit when `parent_pid` is gone.
+    """Initialise a worker: one OpenCV thread, Ctrl-C left to the batch's process, and
+    exit when `parent_pid` is gone.
 
     Parameters
     ----------
@@ -75,5 +101,8 @@ def init_worker(parent_pid: int) -> None:
         Process id of the batch that started the worker.
     """
     cv2.setNumThreads(1)  # the batch already runs one process per core
+    # Ctrl-C reaches the whole process group; the batch ends its workers itself (a worker
+    # that took it would turn it into a failed video and go on to the next one)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(target=_watch, args=(parent_pid,), name="parent-watch",
                      daemon=True).start()
