@@ -4,7 +4,8 @@ Each video's results are written to ``OUT/<name>/`` by :func:`tir_contact.analyz
 (built in a staging folder and moved into place when complete). A broken video (unreadable
 file, corrupt frame, missing metadata) is reported and the others go on; the batch's report
 ``OUT/batch_report.json`` (and ``.csv``) lists every video with its status, and the batch
-fails (non-zero exit of ``tir-contact analyze``) when anything failed.
+fails (non-zero exit of ``tir-contact analyze``) when anything failed. ``OUT/report.html``
+shows them all in a browser (:mod:`tir_contact.report`).
 
 Interrupted (Ctrl-C, SIGINT): no new video is started, the workers are ended, and the
 report lists every video whose results were written (found on disk, also those a worker
@@ -40,6 +41,7 @@ from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
 from tir_contact.prepare import _images_in, footage_fingerprint, resolve_footage
+from tir_contact.report import write_report
 
 logger = logging.getLogger(__name__)
 
@@ -293,6 +295,7 @@ def analyze_batch(
     resume: bool = False,
     progress: bool | None = None,
     on_done: Callable[[VideoStatus], None] | None = None,
+    html: bool = True,
 ) -> BatchReport:
     """Analyse several videos; each result lands in ``out/<name>/`` as soon as it is done.
 
@@ -318,6 +321,9 @@ def analyze_batch(
         otherwise one plain line per finished video on stderr. False: neither.
     on_done : callable, optional
         Called with each video's status as it finishes.
+    html : bool
+        Write ``out/report.html`` at the end (also when interrupted), from every result in
+        `out` (:func:`tir_contact.report.write_report`).
 
     Returns
     -------
@@ -375,12 +381,12 @@ def analyze_batch(
         # the workers are ended (_run_local); what they wrote is on disk, nothing else is
         remove_stale_temporaries(out_path)
         _settle_interrupted(report, todo, out_path, started)
-        _write_report(report, out_path, items)
+        _write_report(report, out_path, items, html)
         raise
     finally:
         if bar is not None:
             bar.close()
-    _write_report(report, out_path, items)
+    _write_report(report, out_path, items, html)
     return report
 
 
@@ -502,7 +508,8 @@ def _run_dask(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | Non
             raise
 
 
-def _write_report(report: BatchReport, out: Path, items: list[Footage]) -> None:
+def _write_report(report: BatchReport, out: Path, items: list[Footage],
+                  html: bool = False) -> None:
     order = {it.name: i for i, it in enumerate(items)}
     report.videos.sort(key=lambda v: order.get(v.name, len(order)))
     write_json(out / "batch_report.json",
@@ -510,3 +517,8 @@ def _write_report(report: BatchReport, out: Path, items: list[Footage]) -> None:
     table = report.table()
     atomic_write(out / "batch_report.csv",
                  lambda tmp: table.to_csv(tmp, index=False, lineterminator="\n"))
+    if html:
+        try:
+            write_report(out)
+        except (OSError, ValueError) as exc:  # the results and the batch report stand
+            logger.error("%s: report.html not written: %s", out, one_line(exc, limit=None))

@@ -80,6 +80,7 @@ COMMANDS: dict[str, Command] = {
     "discrepancy": Command(
         "find where model and measurement disagree and name the missing effect",
         data_errors=(ValueError, OSError, KeyError)),
+    "report": Command("build report.html of an analyze or evaluate results folder"),
     "demo": Command("run the main job on synthetic data it makes itself"),
     "synth": Command(
         "make synthetic TIR footage or synthetic test-rig measurements",
