@@ -44,7 +44,9 @@ def _cli(*argv: str | Path, **kw) -> subprocess.Popen:
 
 
 def _result_folders(out: Path) -> set[str]:
-    return {p.name for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")}
+    """The clips' result folders (not the report's ``report_files``)."""
+    return {p.name for p in out.iterdir()
+            if p.is_dir() and not p.name.startswith(".") and p.name != "report_files"}
 
 
 @pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to a process group (POSIX)")
@@ -88,6 +90,8 @@ def test_ctrl_c_stops_at_once_and_the_report_lists_what_was_written(clip, tmp_pa
         n for n, s in status.items() if s == "interrupted"}
     assert len(written) < 10  # the interrupt came before the end
     assert json.loads((out / "batch_report.json").read_text())["ok"] is False
+    page = (out / "report.html").read_text(encoding="utf-8")  # written on the way out too
+    assert page.count(">interrupted</td>") == 10 - len(written)
 
 
 @pytest.fixture

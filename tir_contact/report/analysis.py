@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -262,6 +263,13 @@ def _card(clip: Clip, root: Path) -> str:
     return "".join(parts)
 
 
+def _cards(clips: list[Clip], root: Path) -> list[str]:
+    """The cards of `clips`, in order, made in threads (decoding the overlay images, most of
+    the time, runs outside Python's lock: about one core's worth of speed-up per core)."""
+    with ThreadPoolExecutor(max_workers=min(8, os.cpu_count() or 1)) as pool:
+        return list(pool.map(lambda c: _card(c, root), clips))
+
+
 HEADER = ["clip", "status", "warnings", "view", "camera", "lit fraction",
           "steady area (mm²) (low–high)", "contact ratio", "deflection (°)", "frames",
           "time (s)"]
@@ -304,7 +312,7 @@ def write_analysis_report(folder: str | os.PathLike[str]) -> Path:
             f"{esc(root)}</code>. Click a column to sort.</span></p>")
     body = (head + table(HEADER, [r for r, _ in rows], sortable=True,
                          row_classes=[cls for _, cls in rows])
-            + "".join(_card(c, root) for c in clips))
+            + "".join(_cards(clips, root)))
     text = page(f"Contact analysis: {root.resolve().name}", body, script=True)
     return atomic_write(root / "report.html",
                         lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
