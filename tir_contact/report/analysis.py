@@ -10,11 +10,14 @@ from __future__ import annotations
 
 import json
 import os
+import re
+import zlib
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 import cv2
 import numpy as np
@@ -60,6 +63,13 @@ class Clip:
     seconds: float | None = None
     summary: dict[str, Any] | None = None
     folder: Path | None = None
+
+    @property
+    def anchor(self) -> str:
+        """The id of its card: the name with anything but letters, digits, ``-``, ``_`` and
+        ``.`` as ``_`` and a short hash of the name (two names never share one)."""
+        slug = re.sub(r"[^A-Za-z0-9_.-]", "_", self.name)
+        return f"clip-{slug}-{zlib.crc32(self.name.encode()):08x}"
 
     @property
     def rank(self) -> int:
@@ -141,7 +151,7 @@ def _row(c: Clip) -> tuple[list[Cell], str]:
         seconds = s.get("n_frames_analysed", 0) / s["frames_per_s"]
     warn = f'<span title="{esc(chr(10).join(c.warnings))}">{len(c.warnings)}</span>' \
         if c.warnings else ""
-    row = [Cell(link(f"#clip-{c.name}", c.name), c.name),
+    row = [Cell(link(f"#{c.anchor}", c.name), c.name),
            Cell(esc(status), c.rank),
            Cell(warn, len(c.warnings), "num"),
            Cell(esc(s.get("view", "")), s.get("view", "")),
@@ -182,8 +192,8 @@ def _thumbnails(clip: Clip, assets: Path, root: Path) -> str:
         else:
             small = cv2.imread(str(thumb), cv2.IMREAD_GRAYSCALE)
             h = small.shape[0] if small is not None else THUMB_WIDTH_PX // 2
-        href = src.relative_to(root).as_posix()
-        out.append(f'<a href="{esc(href)}"><img src="{esc(thumb.relative_to(root).as_posix())}"'
+        href, small_href = (quote(p.relative_to(root).as_posix()) for p in (src, thumb))
+        out.append(f'<a href="{esc(href)}"><img src="{esc(small_href)}"'
                    f' width="{THUMB_WIDTH_PX}" height="{h}" loading="lazy" '
                    f'alt="{esc(clip.name)} {esc(src.stem)}"></a>')
     return '<div class="thumbs">' + "".join(out) + "</div>"
@@ -222,7 +232,7 @@ def _plot(clip: Clip, assets: Path, root: Path) -> str:
             shade = (float(sel.min()), float(sel.max()))
         text = time_series_svg(t_ms, panels, shade)
         atomic_write(svg, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
-    return (f'<img class="plot" src="{esc(svg.relative_to(root).as_posix())}" '
+    return (f'<img class="plot" src="{esc(quote(svg.relative_to(root).as_posix()))}" '
             f'loading="lazy" alt="{esc(clip.name)}: contact over time">')
 
 
@@ -239,7 +249,7 @@ def _elements_table(summary: dict[str, Any] | None) -> str:
 
 
 def _card(clip: Clip, root: Path) -> str:
-    parts = [f'<div class="card" id="clip-{esc(clip.name)}"><h2>{esc(clip.name)} '
+    parts = [f'<div class="card" id="{clip.anchor}"><h2>{esc(clip.name)} '
              f'<span class="{"err" if clip.rank < 3 else "muted"}">{esc(clip.status)}</span>'
              "</h2>"]
     if clip.video:
