@@ -79,7 +79,8 @@ def batch(render_clip, copy_meta, tmp_path_factory) -> Path:
     (clips / "bad_meta" / "meta.json").write_text(text.replace('"fps":', '"fps"', 1))
     black = clips / "black"
     black.mkdir()
-    tifffile.imwrite(black / "black.tif", np.zeros((20, 128, 320), np.uint8))
+    # 120 frames: more digits than the others' (a column sorted as text would put it first)
+    tifffile.imwrite(black / "black.tif", np.zeros((120, 128, 320), np.uint8))
     copy_meta(good, black, drop=["frame_pattern"])
     stack = clips / "cut"
     stack.mkdir()
@@ -136,6 +137,9 @@ def test_every_link_and_image_exists_and_thumbnails_are_sized(batch):
             h, w = cv2.imread(str(path)).shape[:2]
             assert (int(img["width"]), int(img["height"])) == (w, h)
             assert w <= 240
+            # the overlay's own shape, to the pixel the rounding allows
+            full = cv2.imread(str(batch / path.parent.name / "overlays" / (path.stem + ".png")))
+            assert abs(h - full.shape[0] * w / full.shape[1]) <= 0.5
     assert (batch / "G3_a" / "summary.json").as_posix().endswith("summary.json")
     assert "G3_a/summary.json" in page.links and "G3_a/frames.csv" in page.links
 
@@ -246,7 +250,7 @@ def test_report_in_a_real_browser(batch, tmp_path):
         assert column(0) == sorted(names, key=str.lower)
         headers[0].click()
         assert column(0) == sorted(names, key=str.lower, reverse=True)
-        headers[9].click()  # frames: numbers ascending, the failed clip's empty cell last
+        headers[9].click()  # frames: as numbers (120 last), the failed clip's empty cell last
         frames = column(9)
         truth = sorted(json.loads((batch / n / "summary.json").read_text())["n_frames_analysed"]
                        for n in names if (batch / n).is_dir())
