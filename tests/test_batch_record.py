@@ -23,11 +23,13 @@ import pytest
 import tifffile
 
 from synthetic.measurements import make_steady_table, write_table
+from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.batch import find_footage, is_current
 from tir_contact.io import open_footage
 from tir_contact.reference import free_surface
 
 QUIET = ["--no-plots", "--overlay-frames", "0"]
+FAST = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0, parquet=False)
 
 
 @pytest.fixture(scope="module")
@@ -127,11 +129,8 @@ def test_skipped_frames_are_not_complete(clip, copy_meta, tmp_path):
     copy_meta(clip, folder, drop=["frame_pattern"])
     bad = sorted(folder.glob("*.png"))[30]
     bad.write_bytes(bad.read_bytes()[:200])  # a PNG cut short: that frame is skipped
-    out = tmp_path / "out"
-    proc = _cli("analyze", folder, "--out", out, "--workers", "1", *QUIET)
-    _, err = proc.communicate(timeout=300)
-    assert proc.returncode == 1, err
-    summary = json.loads((out / "frames" / "summary.json").read_text())
+    result = analyze_video(folder, tmp_path / "out", options=FAST)
+    summary = json.loads((result.out_dir / "summary.json").read_text())
     assert len(summary["skipped_frames"]) == 1 and summary["complete"] is False
 
 
