@@ -71,6 +71,8 @@ def test_ctrl_c_stops_at_once_and_the_report_lists_what_was_written(clip, tmp_pa
             os.killpg(proc.pid, signal.SIGINT)
         else:
             os.kill(proc.pid, signal.SIGINT)
+        time.sleep(0.05)
+        os.kill(proc.pid, signal.SIGINT)  # an impatient second Ctrl-C: the clean-up goes on
         _, err = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:

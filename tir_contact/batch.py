@@ -379,9 +379,10 @@ def analyze_batch(
             _run_local(todo, out_path, overrides, options, n_workers, finish, start_bar)
     except KeyboardInterrupt:
         # the workers are ended (_run_local); what they wrote is on disk, nothing else is
-        remove_stale_temporaries(out_path)
-        _settle_interrupted(report, todo, out_path, started)
-        _write_report(report, out_path, items, html)
+        with _workers.sigint_held():
+            remove_stale_temporaries(out_path)
+            _settle_interrupted(report, todo, out_path, started)
+            _write_report(report, out_path, items, html)
         raise
     finally:
         if bar is not None:
@@ -414,8 +415,9 @@ def _run_local(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | No
                                      f"worker failed: {_message(exc, str(it.path))}")
             finish(status)
     except BaseException:
-        pool.shutdown(wait=False, cancel_futures=True)
-        _workers.end_workers(before)
+        with _workers.sigint_held():
+            pool.shutdown(wait=False, cancel_futures=True)
+            _workers.end_workers(before)
         raise
     pool.shutdown(wait=True)
 
