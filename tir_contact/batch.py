@@ -368,25 +368,25 @@ def analyze_batch(
         nonlocal bar
         bar = _bar(len(items), len(items) - len(todo), bars)
 
-    try:
-        if scheduler is not None:
-            _run_dask(todo, out_path, overrides, options, scheduler, finish)
-        elif n_workers == 1:
-            start_bar()
-            for it in todo:
-                finish(_run_one(it, str(out_path), overrides, options, video_progress, 1))
-        else:
-            _run_local(todo, out_path, overrides, options, n_workers, finish, start_bar)
-    except KeyboardInterrupt:
-        # the workers are ended (_run_local); what they wrote is on disk, nothing else is
-        with _workers.sigint_held():
+    with _workers.one_interrupt():  # a second Ctrl-C cannot cut the clean-up short
+        try:
+            if scheduler is not None:
+                _run_dask(todo, out_path, overrides, options, scheduler, finish)
+            elif n_workers == 1:
+                start_bar()
+                for it in todo:
+                    finish(_run_one(it, str(out_path), overrides, options, video_progress, 1))
+            else:
+                _run_local(todo, out_path, overrides, options, n_workers, finish, start_bar)
+        except KeyboardInterrupt:
+            # the workers are ended (_run_local); what they wrote is on disk, nothing else
             remove_stale_temporaries(out_path)
             _settle_interrupted(report, todo, out_path, started)
             _write_report(report, out_path, items, html)
-        raise
-    finally:
-        if bar is not None:
-            bar.close()
+            raise
+        finally:
+            if bar is not None:
+                bar.close()
     _write_report(report, out_path, items, html)
     return report
 
@@ -415,9 +415,8 @@ def _run_local(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | No
                                      f"worker failed: {_message(exc, str(it.path))}")
             finish(status)
     except BaseException:
-        with _workers.sigint_held():
-            pool.shutdown(wait=False, cancel_futures=True)
-            _workers.end_workers(before)
+        pool.shutdown(wait=False, cancel_futures=True)
+        _workers.end_workers(before)
         raise
     pool.shutdown(wait=True)
 
