@@ -508,6 +508,11 @@ def read_columns(
             raise source.error(f"unreadable numbers ({exc}){source.read_as()}") from None
     except pd.errors.ParserError as exc:
         found = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
+        where = _first_unparsable_row(path, head) if found is None else None
+        if where is not None:  # pandas counts rows its own way: say where, as data row
+            index, what = where
+            raise source.error(f"malformed CSV, {source.where(index)}: {what}"
+                               f"{source.read_as()}", index=index) from None
         if found is None:
             raise source.error(
                 f"malformed CSV after the column header (file line {head.header_line}): {exc}"
@@ -526,6 +531,31 @@ def read_columns(
     for name in finite:
         source.numbers(frame, name)
     return frame
+
+
+def _first_unparsable_row(path: str | os.PathLike[str],
+                          head: TableHead) -> tuple[int, str] | None:
+    """The 0-based data row where Python's strict CSV reader fails, and why, or None.
+
+    Used for pandas parser errors that give no usable row (``EOF inside string starting at
+    row 9`` counts rows its own way): an unclosed quote is reported at the row it opens in.
+    """
+    with open(path, encoding=_ENCODING, newline="") as f:
+        for _ in range(head.header_line):
+            f.readline()
+        reader = csv.reader(f, delimiter=head.dialect.delimiter, strict=True)
+        before = 0  # lines after the column header read before the row being read
+        while True:
+            try:
+                next(reader)
+            except StopIteration:
+                return None
+            except csv.Error as exc:
+                text = str(exc)
+                if "unexpected end of data" in text:
+                    return before, "a quoted field opened in this row is never closed"
+                return before, f"unreadable row ({text})"
+            before = reader.line_num
 
 
 def read_table(

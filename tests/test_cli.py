@@ -20,6 +20,7 @@ COMMANDS = [
     ["simulate"],
     ["discrepancy"],
     ["demo"],
+    ["report"],
     ["synth"],
     ["synth", "footage"],
     ["synth", "measurements"],

@@ -181,7 +181,8 @@ def test_the_next_run_removes_what_a_killed_run_left(run_cli, clip, tmp_path):
     assert run_cli(["analyze", clip, "--out", out, *QUIET]) == 0
     assert not leftover.exists()
     assert sorted(p.name for p in out.iterdir()) == ["G3", "batch_report.csv",
-                                                      "batch_report.json"]
+                                                      "batch_report.json", "report.html",
+                                                      "report_files"]
 
 
 def _descendants(pid: int) -> set[int]:

@@ -2,7 +2,8 @@
 
 A worker that outlives its parent (the parent killed with ``kill -9``) would finish its
 video and then wait forever for work. Each worker therefore watches the process that
-started the batch and exits as soon as it is gone.
+started the batch and exits as soon as it is gone. Workers ignore Ctrl-C (SIGINT): the
+batch's process alone decides, and ends them (:func:`end_workers`) when it is interrupted.
 """
 
 from __future__ import annotations
@@ -10,15 +11,19 @@ from __future__ import annotations
 import logging
 import multiprocessing
 import os
+import signal
 import sys
 import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from multiprocessing.context import BaseContext
 
 import cv2
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["context", "init_worker", "parent_alive"]
+__all__ = ["children", "context", "end_workers", "init_worker", "one_interrupt",
+           "parent_alive"]
 
 #: Seconds between two looks at the parent.
 WATCH_INTERVAL_S = 0.5
@@ -59,6 +64,53 @@ def parent_alive(pid: int) -> bool:
     return True
 
 
+def children() -> set[multiprocessing.process.BaseProcess]:
+    """The worker processes this process has started and that still run."""
+    return set(multiprocessing.active_children())
+
+
+def end_workers(before: set[multiprocessing.process.BaseProcess],
+                timeout_s: float = 5.0) -> None:
+    """End the worker processes started since `before` (:func:`children`) was taken.
+
+    Each gets SIGTERM (a video half done leaves only a hidden staging folder, which
+    :func:`tir_contact._outdir.remove_stale_temporaries` removes once the worker is gone);
+    one still alive after `timeout_s` gets SIGKILL.
+    """
+    mine = [p for p in multiprocessing.active_children() if p not in before]
+    for p in mine:
+        p.terminate()
+    for p in mine:
+        p.join(timeout_s)
+        if p.is_alive():
+            p.kill()
+            p.join()
+
+
+@contextmanager
+def one_interrupt() -> Iterator[None]:
+    """Inside the block the first Ctrl-C (SIGINT) raises :class:`KeyboardInterrupt` and any
+    further one is ignored: an impatient second Ctrl-C must not cut short the clean-up after
+    the first (ending the workers, writing the batch report). Only in the main thread
+    (elsewhere Python delivers no signal, and it is a no-op)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    fired = False
+
+    def handler(signum: int, frame: object) -> None:
+        nonlocal fired
+        if not fired:
+            fired = True
+            raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _watch(pid: int) -> None:
     event = threading.Event()
     while not event.wait(WATCH_INTERVAL_S):
@@ -67,7 +119,8 @@ def _watch(pid: int) -> None:
 
 
 def init_worker(parent_pid: int) -> None:
-    """Initialise a worker: one OpenCV thread, and exit when `parent_pid` is gone.
+    """Initialise a worker: one OpenCV thread, Ctrl-C left to the batch's process, and
+    exit when `parent_pid` is gone.
 
     Parameters
     ----------
@@ -75,5 +128,8 @@ def init_worker(parent_pid: int) -> None:
         Process id of the batch that started the worker.
     """
     cv2.setNumThreads(1)  # the batch already runs one process per core
+    # Ctrl-C reaches the whole process group; the batch ends its workers itself (a worker
+    # that took it would turn it into a failed video and go on to the next one)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(target=_watch, args=(parent_pid,), name="parent-watch",
                      daemon=True).start()

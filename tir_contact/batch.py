@@ -4,7 +4,13 @@ Each video's results are written to ``OUT/<name>/`` by :func:`tir_contact.analyz
 (built in a staging folder and moved into place when complete). A broken video (unreadable
 file, corrupt frame, missing metadata) is reported and the others go on; the batch's report
 ``OUT/batch_report.json`` (and ``.csv``) lists every video with its status, and the batch
-fails (non-zero exit of ``tir-contact analyze``) when anything failed.
+fails (non-zero exit of ``tir-contact analyze``) when anything failed. ``OUT/report.html``
+shows them all in a browser (:mod:`tir_contact.report`).
+
+Interrupted (Ctrl-C, SIGINT): no new video is started, the workers are ended, and the
+report lists every video whose results were written (found on disk, also those a worker
+finished while the interrupt arrived), the rest as ``interrupted``; then
+:class:`KeyboardInterrupt` goes on to the caller.
 
 Parallel work: local processes (``workers``, default all cores) or an existing
 ``dask.distributed`` cluster (``scheduler`` address).
@@ -35,6 +41,7 @@ from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
 from tir_contact.prepare import _images_in, footage_fingerprint, resolve_footage
+from tir_contact.report import write_report
 
 logger = logging.getLogger(__name__)
 
@@ -75,7 +82,9 @@ class VideoStatus:
 
     name: str
     path: str
-    status: str  # "done", "resumed" (complete and current, skipped), "partial", "failed"
+    # "done", "resumed" (complete and current, skipped), "partial", "failed",
+    # "interrupted" (the batch was stopped before the video's results were written)
+    status: str
     message: str = ""
     n_frames: int = 0
     skipped_frames: int = 0
@@ -286,6 +295,7 @@ def analyze_batch(
     resume: bool = False,
     progress: bool | None = None,
     on_done: Callable[[VideoStatus], None] | None = None,
+    html: bool = True,
 ) -> BatchReport:
     """Analyse several videos; each result lands in ``out/<name>/`` as soon as it is done.
 
@@ -311,6 +321,9 @@ def analyze_batch(
         otherwise one plain line per finished video on stderr. False: neither.
     on_done : callable, optional
         Called with each video's status as it finishes.
+    html : bool
+        Write ``out/report.html`` at the end (also when interrupted), from every result in
+        `out` (:func:`tir_contact.report.write_report`).
 
     Returns
     -------
@@ -323,6 +336,7 @@ def analyze_batch(
     remove_stale_temporaries(out_path)
     items = list(footage)
     report = BatchReport()
+    started = time.time()  # results written after this are this batch's
     todo: list[Footage] = []
     for it in items:
         if resume and is_current(it, out_path):
@@ -343,45 +357,111 @@ def analyze_batch(
         if bar is None:
             bar = _bar(len(items), len(items) - len(todo), bars)
         bar.update(1)
-        if status.status == "failed":
-            logger.error("%s: %s", status.path, status.message)
-        for text in status.warnings:
-            logger.warning("%s: %s", status.path, text)
+        _log(status, scheduler is not None)
         if lines:
             _print_line(status, len(report.videos), len(items))
         if on_done is not None:
             on_done(status)
         _write_report(report, out_path, items)
 
-    try:
-        if scheduler is not None:
-            _run_dask(todo, out_path, overrides, options, scheduler, finish)
-        elif n_workers == 1:
-            bar = _bar(len(items), len(items) - len(todo), bars)
-            for it in todo:
-                finish(_run_one(it, str(out_path), overrides, options, video_progress, 1))
-        else:
-            with ProcessPoolExecutor(max_workers=n_workers, mp_context=_workers.context(),
-                                     initializer=_workers.init_worker,
-                                     initargs=(os.getpid(),)) as pool:
-                futures = {
-                    pool.submit(_run_one, it, str(out_path), overrides, options, False, 0): it
-                    for it in todo
-                }
-                bar = _bar(len(items), len(items) - len(todo), bars)
-                for fut in as_completed(futures):
-                    it = futures[fut]
-                    try:
-                        status = fut.result()
-                    except Exception as exc:  # worker crashed (e.g. killed)
-                        status = VideoStatus(it.name, str(it.path), "failed",
-                                             f"worker failed: {_message(exc, str(it.path))}")
-                    finish(status)
-    finally:
-        if bar is not None:
-            bar.close()
-    _write_report(report, out_path, items)
+    def start_bar() -> None:
+        nonlocal bar
+        bar = _bar(len(items), len(items) - len(todo), bars)
+
+    with _workers.one_interrupt():  # a second Ctrl-C cannot cut the clean-up short
+        try:
+            if scheduler is not None:
+                _run_dask(todo, out_path, overrides, options, scheduler, finish)
+            elif n_workers == 1:
+                start_bar()
+                for it in todo:
+                    finish(_run_one(it, str(out_path), overrides, options, video_progress, 1))
+            else:
+                _run_local(todo, out_path, overrides, options, n_workers, finish, start_bar)
+        except KeyboardInterrupt:
+            # the workers are ended (_run_local); what they wrote is on disk, nothing else
+            remove_stale_temporaries(out_path)
+            _settle_interrupted(report, todo, out_path, started)
+            _write_report(report, out_path, items, html)
+            raise
+        finally:
+            if bar is not None:
+                bar.close()
+    _write_report(report, out_path, items, html)
     return report
+
+
+def _run_local(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | None,
+               options: AnalysisOptions, n_workers: int,
+               finish: Callable[[VideoStatus], None], started: Callable[[], None]) -> None:
+    """Analyse `todo` in `n_workers` local processes, calling `finish` as each ends.
+
+    On any exception here (Ctrl-C included) the queued videos are cancelled and the workers
+    ended at once (:func:`tir_contact._workers.end_workers`) before it goes on.
+    """
+    before = _workers.children()
+    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=_workers.context(),
+                               initializer=_workers.init_worker, initargs=(os.getpid(),))
+    try:
+        futures = {pool.submit(_run_one, it, str(out), overrides, options, False, 0): it
+                   for it in todo}
+        started()
+        for fut in as_completed(futures):
+            it = futures[fut]
+            try:
+                status = fut.result()
+            except Exception as exc:  # worker crashed (e.g. killed)
+                status = VideoStatus(it.name, str(it.path), "failed",
+                                     f"worker failed: {_message(exc, str(it.path))}")
+            finish(status)
+    except BaseException:
+        pool.shutdown(wait=False, cancel_futures=True)
+        _workers.end_workers(before)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _settle_interrupted(report: BatchReport, todo: list[Footage], out: Path,
+                        started: float) -> None:
+    """After an interrupt: each video of `todo` not yet in `report` gets its status from
+    the results this batch wrote for it (a worker may have finished as the interrupt came),
+    or ``interrupted``."""
+    have = {v.name for v in report.videos}
+    for it in todo:
+        if it.name in have:
+            continue
+        path = out / it.name / "summary.json"
+        try:
+            written = path.stat().st_mtime >= started - 0.01  # file times are coarse
+            summary = json.loads(path.read_text(encoding="utf-8")) if written else None
+        except (OSError, ValueError):
+            summary = None
+        if summary is None:
+            report.videos.append(VideoStatus(
+                it.name, str(it.path), "interrupted",
+                "the batch was interrupted before this video's results were written"))
+            continue
+        lost = summary.get("lost_frames") or []
+        skipped = summary.get("skipped_frames") or []
+        report.videos.append(VideoStatus(
+            it.name, str(it.path), "partial" if lost or skipped else "done",
+            "written as the batch was interrupted (status from its summary.json)",
+            n_frames=int(summary.get("n_frames_analysed", 0)), skipped_frames=len(skipped),
+            warnings=list(summary.get("warnings", []))))
+
+
+#: Warnings a local reader has already logged as it opened the footage (a container cut
+#: short): the console shows them once; summary.json and the report keep them.
+_LOGGED_BY_READER = ("the container was cut short",)
+
+
+def _log(status: VideoStatus, remote: bool) -> None:
+    """Print a finished video's failure and warnings once (``ERROR:`` / ``WARNING:``)."""
+    if status.status == "failed":
+        logger.error("%s: %s", status.path, status.message)
+    for text in status.warnings:
+        if remote or not text.startswith(_LOGGED_BY_READER):
+            logger.warning("%s: %s", status.path, text)
 
 
 def _bar(total: int, done: int, show: bool) -> Any:
@@ -395,7 +475,8 @@ def _print_line(status: VideoStatus, done: int, total: int) -> None:
     text = f"[{done}/{total}] {status.status}: {status.name}"
     if status.status in ("done", "partial"):
         text += f" ({status.n_frames} frames, {status.seconds:.1f} s)"
-    if status.message:
+    # a failure's message was printed as an ERROR line, lost frames as a WARNING line
+    if status.message and status.status not in ("failed", "partial"):
         text += f": {status.message}"
     print(text, file=sys.stderr, flush=True)
 
@@ -414,17 +495,22 @@ def _run_dask(todo: list[Footage], out: Path, overrides: Mapping[str, Any] | Non
             client.submit(_run_one, it, str(out), overrides, options, False, 0, pure=False): it
             for it in todo
         }
-        for fut in as_completed(list(futures)):
-            it = futures[fut]
-            try:
-                status = fut.result()
-            except Exception as exc:
-                status = VideoStatus(it.name, str(it.path), "failed",
-                                     f"worker failed: {_message(exc, str(it.path))}")
-            finish(status)
+        try:
+            for fut in as_completed(list(futures)):
+                it = futures[fut]
+                try:
+                    status = fut.result()
+                except Exception as exc:
+                    status = VideoStatus(it.name, str(it.path), "failed",
+                                         f"worker failed: {_message(exc, str(it.path))}")
+                finish(status)
+        except BaseException:
+            client.cancel(list(futures))  # no new video starts on the cluster
+            raise
 
 
-def _write_report(report: BatchReport, out: Path, items: list[Footage]) -> None:
+def _write_report(report: BatchReport, out: Path, items: list[Footage],
+                  html: bool = False) -> None:
     order = {it.name: i for i, it in enumerate(items)}
     report.videos.sort(key=lambda v: order.get(v.name, len(order)))
     write_json(out / "batch_report.json",
@@ -432,3 +518,8 @@ def _write_report(report: BatchReport, out: Path, items: list[Footage]) -> None:
     table = report.table()
     atomic_write(out / "batch_report.csv",
                  lambda tmp: table.to_csv(tmp, index=False, lineterminator="\n"))
+    if html:
+        try:
+            write_report(out)
+        except (OSError, ValueError) as exc:  # the results and the batch report stand
+            logger.error("%s: report.html not written: %s", out, one_line(exc, limit=None))

@@ -15,8 +15,10 @@ traceback reaches the user unless ``-vv`` asks for it.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import logging
+import signal
 import sys
 import traceback
 import warnings
@@ -82,6 +84,7 @@ COMMANDS: dict[str, Command] = {
     "discrepancy": Command(
         "find where model and measurement disagree and name the missing effect",
         data_errors=(ValueError, OSError, KeyError)),
+    "report": Command("build report.html of an analyze or evaluate results folder"),
     "demo": Command("run the main job on synthetic data it makes itself"),
     "synth": Command(
         "make synthetic TIR footage or synthetic test-rig measurements",
@@ -216,6 +219,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                 warnings.simplefilter("ignore")
             return int(args.func(args) or 0)
     except KeyboardInterrupt:
+        # the work is stopped and recorded: a further Ctrl-C must not change the exit code
+        with contextlib.suppress(ValueError):  # ValueError: not the main thread
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
         print(f"{prog}: interrupted", file=sys.stderr)
         return INTERRUPTED
     except UsageError as exc:

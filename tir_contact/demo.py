@@ -310,6 +310,9 @@ def _rig_runs(
             write_run_csv(df, runs_dir / f"G3_v{v:g}_run{k + 1:02d}.csv", df.attrs["metadata"])
     result = evaluate_runs(sorted(runs_dir.glob("*.csv")), progress=False)
     write_outputs(result, out / "evaluation")
+    from tir_contact.report import write_evaluation_report
+
+    write_evaluation_report(out / "evaluation")
     steady = result.steady
     evaluated = steady[steady["row_type"] == "run"].assign(
         velocity_mps=lambda d: d["velocity_mps"].round(1)

@@ -309,7 +309,8 @@ def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
     in_view = frames["block_in_view"].astype(bool)
     return {
         "result_version": _RESULT_VERSION,
-        "complete": True,
+        # every frame the footage claims was analysed: none skipped, none lost
+        "complete": not skipped and not lost,
         "video": str(path),
         "name": name,
         "view": setup.view,

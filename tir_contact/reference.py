@@ -164,8 +164,11 @@ def free_surface(
 
     def candidates(size: int) -> tuple[np.ndarray, np.ndarray, float]:
         closed = _closing(smooth, size)
+        # a pixel the closing leaves unlit (grey 0: black footage) has no light to lose:
+        # its darkness is 0, not 1 (which made every pixel a candidate and grew the disc
+        # to the whole image, 30x the time of a normal clip)
         with np.errstate(divide="ignore", invalid="ignore"):
-            d = 1.0 - smooth / np.maximum(closed, 1e-6)
+            d = np.where(closed > 0, 1.0 - smooth / np.maximum(closed, 1e-6), 0.0)
         cand = _fill_holes(((d > candidate_darkness) & lit_mask).astype(np.uint8)).astype(bool)
         widest = 0.0
         if cand.any():

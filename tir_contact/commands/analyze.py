@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import sys
 from pathlib import Path
 
 from tir_contact.commands._types import output_folder, positive_int, positive_number
@@ -107,8 +106,7 @@ def run(args: argparse.Namespace) -> int:
     counts: dict[str, int] = {}
     for v in report.videos:
         counts[v.status] = counts.get(v.status, 0) + 1
-    for v in report.failed:
-        print(f"{v.status}: {v.path}: {v.message}", file=sys.stderr)
+    # each failure and warning was printed once as the video finished (ERROR / WARNING)
     summary = ", ".join(f"{n} {s}" for s, n in sorted(counts.items()))
     warned = sum(1 for v in report.videos if v.warnings)
     if warned:

@@ -7,9 +7,10 @@ Usage::
 
 PATH is a run CSV file or a folder of them (all ``*.csv`` in natural sort order). Writes
 ``steady_characteristic.csv``, ``ambient.csv``, ``instationary_characteristic.csv`` (when
-there are instationary runs), ``provenance.json`` and PNG plots to DIR; prints a summary to
-stdout and one ``file: message`` line per failed file to stderr. Exit code 0 when every file
-was evaluated, 1 when any failed (everything that succeeded is still written).
+there are instationary runs), ``provenance.json``, PNG plots and ``report.html`` to DIR;
+prints a summary to stdout and one ``file: message`` line per failed file to stderr. Exit
+code 0 when every file was evaluated, 1 when any failed (everything that succeeded is still
+written).
 """
 
 from __future__ import annotations
@@ -83,6 +84,9 @@ def run(args: argparse.Namespace) -> int:
         plots=not args.no_plots,
         progress=False if args.no_progress else None,
     )
+    from tir_contact.report import write_evaluation_report
+
+    write_evaluation_report(args.out)  # the tables and plots just written, to review
     n_steady, n_inst = len(result.steady_runs), len(result.instationary_runs)
     print(
         f"evaluated {n_steady} steady and {n_inst} instationary runs, "
