@@ -250,12 +250,17 @@ def sample_specs(n: int, seed: int | None = 0) -> list[tuple[FootageSpec, str]]:
     -------
     list of (FootageSpec, str)
     """
+    return _draws(sample_spec, n, seed)
+
+
+def _draws(draw: Any, n: int, seed: int | None) -> list[tuple[FootageSpec, str]]:
+    """``n`` draws of ``draw(rng)`` from one generator seeded with ``seed``."""
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
         raise TypeError(f"n must be an integer, got {type(n).__name__}: {n!r}")
     if n < 0:
         raise ValueError(f"n must be >= 0, got n={n!r}")
     rng = np.random.default_rng(seed)
-    return [sample_spec(rng) for _ in range(int(n))]
+    return [draw(rng) for _ in range(int(n))]
 
 
 def real_photo_specs(seed: int = 0, *, n_frames: int = 10) -> dict[str, FootageSpec]:
@@ -399,9 +404,4 @@ def sample_physical_specs(n: int, seed: int | None = 0) -> list[tuple[FootageSpe
     Kept apart from :func:`sample_specs` so that its draws (and the published validation
     of the domain) stay what they were.
     """
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
-        raise TypeError(f"n must be an integer, got {type(n).__name__}: {n!r}")
-    if n < 0:
-        raise ValueError(f"n must be >= 0, got n={n!r}")
-    rng = np.random.default_rng(seed)
-    return [sample_physical_spec(rng) for _ in range(int(n))]
+    return _draws(sample_physical_spec, n, seed)
