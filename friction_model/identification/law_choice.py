@@ -9,7 +9,8 @@ A statistician's reading of a mu(v) characteristic, in three steps:
 2. **Quality of one fit** (:func:`fit_quality`). With an independent noise estimate, the
    weighted residual sum ``chi2`` of a correct law follows a chi-square distribution with
    ``n - k`` degrees of freedom; the reduced chi-square ``chi2 / (n - k)`` is about 1. A fit
-   whose ``chi2`` has a tail probability below :data:`MISFIT_P` is a misfit (the residual
+   whose misfit has a tail probability below :data:`MISFIT_P` (the lack-of-fit F test with
+   replicate noise, the chi-square test with a given one) is a misfit (the residual
    exceeds the noise by more than chance allows): it is warned about, and its covariance is
    scaled by the reduced chi-square (the Birge ratio squared), so that an interval is never
    narrower than the misfit it ignores.
@@ -135,8 +136,9 @@ class FitQuality:
         ``chi2 / (n - k)`` with the independent noise estimate; NaN when there is none or
         no degree of freedom is left (then the fit cannot be tested).
     p_value : float
-        Tail probability of ``chi2`` under the chi-square distribution with ``n - k``
-        degrees of freedom (NaN when untestable).
+        Tail probability of the misfit: the lack-of-fit F test with replicate noise, else
+        ``chi2`` against the chi-square distribution with ``n - k`` degrees of freedom (NaN
+        when untestable: no independent noise, or as many parameters as velocity levels).
     misfit : bool
         ``p_value < MISFIT_P``: the residual exceeds the noise by more than chance allows.
     interval_scale : float
@@ -161,8 +163,8 @@ class FitQuality:
 
     @property
     def testable(self) -> bool:
-        """Whether the fit could be tested against the noise."""
-        return math.isfinite(self.reduced_chi2)
+        """Whether the fit could be tested against the noise (a finite ``p_value``)."""
+        return math.isfinite(self.p_value)
 
     def warning(self, law_name: str) -> str | None:
         """One line when the fit is a misfit, else None."""
@@ -209,16 +211,34 @@ def fit_quality(
     if noise_source == "residuals" or fit.dof <= 0 or not math.isfinite(fit.chi2):
         return FitQuality(math.nan, math.nan, False, 1.0, noise_source, noise_sigma, noise_dof)
     red = reduced_chi_square(fit.chi2, fit.n_points, fit.n_points - fit.dof)
-    p = float(stats.chi2.sf(fit.chi2, fit.dof))
+    p = _misfit_p(fit.chi2, fit.dof, noise_source, noise_dof)
     return FitQuality(
         reduced_chi2=red,
         p_value=p,
-        misfit=p < MISFIT_P,
+        misfit=bool(p < MISFIT_P),
         interval_scale=math.sqrt(max(1.0, red)),
         noise_source=noise_source,
         noise_sigma=noise_sigma,
         noise_dof=noise_dof,
     )
+
+
+def _misfit_p(chi2: float, dof: int, noise_source: str, noise_dof: int | None) -> float:
+    """Tail probability of a fit's misfit under the noise (NaN when untestable).
+
+    With replicate noise the chi-square splits into the pure error (``noise_dof`` exactly,
+    the pooled sigma being made of it) and the lack of fit; the lack-of-fit F test
+    ``F = ((chi2 - noise_dof) / (dof - noise_dof))``, F-distributed with
+    ``(dof - noise_dof, noise_dof)`` degrees of freedom, accounts for the noise being
+    estimated. A given sigma is taken as exact: ``chi2`` against chi-square(``dof``).
+    """
+    if noise_source == "replicates" and noise_dof:
+        lof_dof = dof - noise_dof
+        if lof_dof <= 0:  # as many parameters as replicate groups: no lack of fit to test
+            return math.nan
+        f_stat = max(chi2 - noise_dof, 0.0) / lof_dof
+        return float(stats.f.sf(f_stat, lof_dof, noise_dof))
+    return float(stats.chi2.sf(chi2, dof))
 
 
 def law_interval(
@@ -440,7 +460,7 @@ def choose_law(
         c.name: {
             "k": c.k,
             "aicc": c.aicc if math.isfinite(c.aicc) else None,
-            "reduced_chi2": None if c.quality is None or not c.quality.testable
+            "reduced_chi2": None if c.quality is None or not math.isfinite(c.quality.reduced_chi2)
             else c.quality.reduced_chi2,
             "status": c.status,
         }

@@ -485,8 +485,9 @@ def _law_fit_section(choice: LawChoice, level: float) -> dict[str, Any]:
         section["noise_sigma"] = quality.noise_sigma
     if quality.noise_dof is not None:
         section["noise_dof"] = quality.noise_dof
-    if quality.testable:
+    if math.isfinite(quality.reduced_chi2):
         section["reduced_chi2"] = quality.reduced_chi2
+    if quality.testable:
         section["misfit_p_value"] = quality.p_value
     return section
 
