@@ -50,7 +50,7 @@ from friction_model._fitting import covariance_with_stderr
 from friction_model._table_io import TableSource, read_table
 from friction_model.contact.laws import FrictionLaw, fit_law
 from friction_model.dynamics.rigid import SdofParams
-from friction_model.identification.law_choice import replicate_noise, velocity_levels
+from friction_model.replicates import replicate_noise, velocity_levels
 
 logger = logging.getLogger(__name__)
 

@@ -37,6 +37,7 @@ from scipy import stats
 
 from friction_model.contact import laws
 from friction_model.model_selection import aicc_known_sigma, aicc_rss, reduced_chi_square
+from friction_model.replicates import replicate_noise, velocity_levels
 
 __all__ = [
     "AICC_MARGIN",
@@ -60,72 +61,6 @@ MISFIT_P = 1e-3
 #: Laws within this AICc of the best are "in play" together (Burnham and Anderson: a
 #: difference below 2 is substantial support for both).
 AICC_MARGIN = 2.0
-# velocity levels: a new level where v exceeds the previous by more than max(5 %, 0.02 m/s),
-# the grouping of repeats that friction_model.rig.aggregate_runs uses
-_LEVEL_REL_TOL = 0.05
-_LEVEL_ABS_TOL_MPS = 0.02
-
-
-def velocity_levels(velocity_mps: Sequence[float] | np.ndarray) -> np.ndarray:
-    """Index of the velocity level of every point (repeats at one velocity share it).
-
-    Sorted by velocity, a new level starts where the velocity exceeds the previous point's
-    by more than ``max(0.05 v, 0.02 m/s)`` (the grouping of
-    :func:`friction_model.rig.aggregate_runs`).
-
-    Examples
-    --------
-    >>> velocity_levels([3.0, 1.0, 1.001, 3.02, 5.0]).tolist()
-    [1, 0, 0, 1, 2]
-    """
-    v = np.asarray(velocity_mps, dtype=float).ravel()
-    order = np.argsort(v, kind="stable")
-    vs = v[order]
-    step = np.diff(vs) > np.maximum(_LEVEL_REL_TOL * vs[:-1], _LEVEL_ABS_TOL_MPS)
-    levels = np.empty(v.size, dtype=int)
-    levels[order] = np.concatenate([[0], np.cumsum(step)])
-    return levels
-
-
-def replicate_noise(mu: np.ndarray, groups: np.ndarray) -> tuple[float, int]:
-    """Pooled replicate standard deviation of ``mu`` and its degrees of freedom.
-
-    ``s^2 = sum_g sum_i (mu_gi - mean_g)^2 / (n - G)``: the scatter of repeated
-    measurements about their own mean, which no friction law enters (the "pure error" of a
-    lack-of-fit test).
-
-    Parameters
-    ----------
-    mu : (n,) ndarray
-        Friction coefficients.
-    groups : (n,) ndarray
-        Replicate group of each point (same specimen, condition and velocity).
-
-    Returns
-    -------
-    sigma : float
-        The pooled standard deviation (NaN without a repeat or when every repeat is equal).
-    dof : int
-        ``n - G``, 0 without a repeat.
-
-    Examples
-    --------
-    >>> s, dof = replicate_noise(np.array([1.0, 3.0, 10.0, 12.0]), np.array([0, 0, 1, 1]))
-    >>> round(s, 12), dof  # each pair scatters by sqrt(2) about its mean
-    (1.414213562373, 2)
-    """
-    mu = np.asarray(mu, dtype=float)
-    _, inverse = np.unique(np.asarray(groups), return_inverse=True)
-    inverse = inverse.ravel()
-    n_groups = int(inverse.max()) + 1 if inverse.size else 0
-    dof = int(mu.size - n_groups)
-    if dof <= 0:
-        return math.nan, 0
-    means = np.bincount(inverse, weights=mu, minlength=n_groups) / np.bincount(inverse)
-    ss = float(np.sum((mu - means[inverse]) ** 2))
-    return (math.sqrt(ss / dof) if ss > 0 else math.nan), dof
-
-
 @dataclass(frozen=True)
 class FitQuality:
     """Whether a law's fit agrees with the noise, and how much its intervals widen.
