@@ -91,3 +91,15 @@ def test_a_characteristic_without_salinity_names_the_option(tmp_path, capsys):
     # pressure from the forces over G3's nominal area (20 mm x 80 mm): 400 N -> 2.5 bar
     assert np.allclose(table["pressure_bar"], 2.5, rtol=0.01)
     assert set(table["n_sipes"]) == {3} and len(table) == 9
+
+
+def test_one_condition_is_held_out_by_velocity_level(evaluated):
+    """The demo's sweep is one condition: hold-out groups are its velocity levels (repeats
+    together), not nine single runs (measured conditions scatter per run) nor one group."""
+    from friction_model.discrepancy import SteadyProblem, read_steady_table
+
+    root, _ = evaluated
+    table = read_steady_table(root / "eval" / "steady_characteristic.csv")
+    assert table["pressure_bar"].nunique() == 1 and table["temperature_C"].nunique() == 1
+    problem = SteadyProblem(table)
+    assert problem.groups.tolist() == [0, 0, 0, 1, 1, 1, 2, 2, 2]
