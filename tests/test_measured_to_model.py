@@ -103,3 +103,15 @@ def test_one_condition_is_held_out_by_velocity_level(evaluated):
     assert table["pressure_bar"].nunique() == 1 and table["temperature_C"].nunique() == 1
     problem = SteadyProblem(table)
     assert problem.groups.tolist() == [0, 0, 0, 1, 1, 1, 2, 2, 2]
+
+
+def test_calibrate_auto_that_cannot_decide_exits_2_naming_the_laws(tmp_path, capsys):
+    path = tmp_path / "three.csv"
+    pd.DataFrame({"velocity_mps": VELOCITIES, "mu": [0.2516, 0.1778, 0.1691]}).to_csv(
+        path, index=False)
+    assert main(["calibrate", "--characteristic", str(path), "--out",
+                 str(tmp_path / "p.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "cannot choose a friction law" in err[0]
+    assert "still in play: ConstantLaw, DecreasingSqrtLaw" in err[0] and "--law" in err[0]
+    assert not (tmp_path / "p.json").exists()
