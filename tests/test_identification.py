@@ -214,9 +214,13 @@ def test_read_characteristic_both_formats(tmp_path):
     )
     path = tmp_path / "steady_characteristic.csv"
     evaluated.to_csv(path, index=False)
-    st2 = read_characteristic(path)
-    assert_allclose(st2.mu, [0.2, 0.15])
-    assert_allclose(st2.sigma, [0.004, 0.003])
+    st2 = read_characteristic(path)  # the run rows are the measurements (issue 26)
+    assert_allclose(st2.mu, [0.21, 0.16])
+    assert st2.sigma is None and st2.noise_source == "residuals"  # no repeat, no noise
+    evaluated[evaluated["row_type"] == "aggregate"].to_csv(path, index=False)
+    st3 = read_characteristic(path)
+    assert_allclose(st3.mu, [0.2, 0.15])
+    assert_allclose(st3.sigma, [0.004, 0.003])
     with pytest.raises(ValueError, match=r"^table: column 'velocity_mps' missing"):
         read_characteristic(table.drop(columns="velocity_mps"))
     with pytest.raises(ValueError, match="cannot select on 'humidity_pct'"):

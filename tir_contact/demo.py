@@ -305,7 +305,8 @@ def _rig_runs(
                 temperature_C=-4.0,
                 humidity_pct=73.0,
                 rng=rng,
-                metadata={"specimen": "G3", "run": k + 1, "condition": f"v{v:g}"},
+                metadata={"specimen": "G3", "run": k + 1, "condition": f"v{v:g}",
+                          "salinity_pct": cond.salinity_pct},
             )
             write_run_csv(df, runs_dir / f"G3_v{v:g}_run{k + 1:02d}.csv", df.attrs["metadata"])
     result = evaluate_runs(sorted(runs_dir.glob("*.csv")), progress=False)

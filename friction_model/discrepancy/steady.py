@@ -25,8 +25,16 @@ from friction_model.contact.effects import DRY_WET_EFFECTS, Effects
 from friction_model.contact.water_layer import freezing_point_depression_K
 from friction_model.discrepancy._problem import get_candidate
 from friction_model.discrepancy._steady_curves import CONDITION_COLUMNS, steady_mu
+from friction_model.geometry import BlockGeometry, reference_block
+from friction_model.replicates import replicate_noise, value_levels, velocity_levels
 
-__all__ = ["GROUP_COLUMNS", "MIN_RELATIVE_SIGMA", "SteadyProblem", "read_steady_table"]
+__all__ = [
+    "GROUP_COLUMNS",
+    "MIN_RELATIVE_SIGMA",
+    "SteadyProblem",
+    "read_steady_table",
+    "steady_table_from_characteristic",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -68,6 +76,15 @@ def _knots(name: str, upper: float) -> np.ndarray:
     return upper * u
 
 
+#: Set-point tolerance (relative, absolute) of the conditions a rig measures per run: runs
+#: whose measured pressure, temperature or humidity differ by less belong to one condition.
+#: The rig holds them far closer (demo runs: 0.003 bar, 0.0003 K, 0.002 %); the conditions
+#: of a study differ by far more (Table 4.6: 2.5 and 5 bar, -5 and -1 degC, 40 and 95 %).
+_SET_POINT_TOL = {
+    "pressure_bar": (0.05, 0.0),
+    "temperature_C": (0.0, 0.5),
+    "humidity_pct": (0.0, 5.0),
+}
 #: Columns a steady table must have, and the fewest rows it needs.
 _NEEDED = (*CONDITION_COLUMNS, "n_sipes", "mu")
 _MIN_ROWS = 4
@@ -118,8 +135,15 @@ def _check_table(table: pd.DataFrame, source: TableSource) -> dict[str, np.ndarr
     return numeric
 
 
-def read_steady_table(path: str | os.PathLike[str]) -> pd.DataFrame:
-    """Read and check a steady table CSV (docs/formats.md, "Steady table").
+def read_steady_table(
+    path: str | os.PathLike[str],
+    *,
+    salinity_pct: float | None = None,
+    pressure_bar: float | None = None,
+    n_sipes: int | None = None,
+) -> pd.DataFrame:
+    """Read and check a steady table CSV (docs/formats.md, "Steady table"), or the
+    evaluation's ``steady_characteristic.csv`` (:func:`steady_table_from_characteristic`).
 
     Any delimiter and decimal mark of :mod:`friction_model._table_io` are read (``,`` with
     ``.``, ``;`` or tab with ``.`` or ``,``).
@@ -128,7 +152,11 @@ def read_steady_table(path: str | os.PathLike[str]) -> pd.DataFrame:
     ----------
     path : str or path-like
         CSV with the columns ``velocity_mps``, ``pressure_bar``, ``temperature_C``,
-        ``humidity_pct``, ``salinity_pct``, ``n_sipes``, ``mu`` and optionally ``mu_std``.
+        ``humidity_pct``, ``salinity_pct``, ``n_sipes``, ``mu`` and optionally ``mu_std``;
+        or a ``steady_characteristic.csv`` (``row_type``, ``mu_mean_method1``, ...).
+    salinity_pct, pressure_bar, n_sipes : optional
+        For a ``steady_characteristic.csv``: the conditions it does not record (see
+        :func:`steady_table_from_characteristic`).
 
     Returns
     -------
@@ -144,12 +172,166 @@ def read_steady_table(path: str | os.PathLike[str]) -> pd.DataFrame:
     OSError
         When the file cannot be opened.
     """
-    numeric = [*_NEEDED, "mu_std"]
-    table, source = read_table(
-        path, required=_NEEDED, floats=numeric, finite=numeric, expected=_EXPECTED
-    )
+    table, source = read_table(path)
+    if "mu_mean_method1" in table.columns and "mu" not in table.columns:
+        table = steady_table_from_characteristic(
+            table, source, salinity_pct=salinity_pct, pressure_bar=pressure_bar,
+            n_sipes=n_sipes,
+        )
+        source = TableSource(f"{source.file} (as a steady table)")
+    else:
+        err = source.missing(_NEEDED, list(table.columns), expected=_EXPECTED)
+        if err is not None:
+            raise err
+        for col in (*_NEEDED, "mu_std"):
+            if col in table.columns:
+                table[col] = source.numbers(table, col)
     _check_table(table, source)
     return table
+
+
+def steady_table_from_characteristic(
+    table: pd.DataFrame,
+    source: TableSource | None = None,
+    *,
+    salinity_pct: float | None = None,
+    pressure_bar: float | None = None,
+    n_sipes: int | None = None,
+) -> pd.DataFrame:
+    """A steady table from the evaluation's ``steady_characteristic.csv``.
+
+    The ``run`` rows where there are any (each repeat a measurement), else the ``aggregate``
+    rows. ``mu`` is ``mu_mean_method1``; ``mu_std`` the pooled scatter of the repeats at
+    one velocity (:func:`friction_model.replicates.replicate_noise`), or for aggregate rows
+    the standard error of their mean, ``mu_std_runs / sqrt(n_runs)`` (absent without
+    repeats: the problem then estimates it). The conditions the file does not record are
+    derived from its own columns, else taken from the arguments:
+
+    * ``pressure_bar``: the argument, else ``normal_pressure_Pa / 1e5``, else
+      ``normal_force_N`` over the nominal area of the specimen's reference block
+      (``specimen`` G0, G3, G5, G6 or G7);
+    * the measured pressure, temperature and humidity of the runs are replaced by the mean
+      of their set point (runs within 5 %, 0.5 K and 5 % of each other), so that the
+      repeats of one condition form one condition;
+    * ``n_sipes``: the argument, else the column or ``meta_n_sipes``, else the specimen's
+      reference block;
+    * ``salinity_pct``: the argument, else the column or ``meta_salinity_pct`` (a
+      ``# salinity_pct:`` line in the run files);
+    * ``temperature_C``, ``humidity_pct``: the file's (the rig measures them).
+
+    Raises
+    ------
+    ValueError
+        One line naming the file, what is missing and the option that gives it.
+    """
+    src = source or TableSource("steady_characteristic.csv")
+    if "row_type" in table.columns:
+        kinds = table["row_type"].astype(str).str.strip()
+        for kind in ("run", "aggregate"):
+            if (kinds == kind).any():
+                table = table[kinds == kind]
+                break
+    table = table.reset_index(drop=True)
+    for col in ("temperature_C", "humidity_pct"):
+        if col not in table.columns:
+            raise src.error(f"column '{col}' missing: the rig's run files must record it",
+                            column=col)
+    out = pd.DataFrame({
+        "velocity_mps": src.numbers(table, "velocity_mps"),
+        "pressure_bar": _set_points(_characteristic_pressure(table, src, pressure_bar),
+                                    *_SET_POINT_TOL["pressure_bar"]),
+        "temperature_C": _set_points(src.numbers(table, "temperature_C"),
+                                     *_SET_POINT_TOL["temperature_C"]),
+        "humidity_pct": _set_points(src.numbers(table, "humidity_pct"),
+                                    *_SET_POINT_TOL["humidity_pct"]),
+        "salinity_pct": _characteristic_value(
+            table, src, "salinity_pct", salinity_pct, "--salinity PCT (0 for fresh-water ice)"),
+        "n_sipes": _characteristic_sipes(table, src, n_sipes),
+        "mu": src.numbers(table, "mu_mean_method1"),
+    })
+    mu_std = _characteristic_mu_std(table, out)
+    if mu_std is not None:
+        out["mu_std"] = mu_std
+    return out
+
+
+def _set_points(values: np.ndarray, rel_tol: float, abs_tol: float) -> np.ndarray:
+    """Each measured condition replaced by the mean of its level (its set point)."""
+    levels = value_levels(values, rel_tol=rel_tol, abs_tol=abs_tol)
+    means = np.bincount(levels, weights=values) / np.bincount(levels)
+    return means[levels]
+
+
+def _specimen_block(table: pd.DataFrame) -> BlockGeometry | None:
+    """The reference block every row's ``specimen`` names (None when not one preset)."""
+    if "specimen" not in table.columns:
+        return None
+    names = set(table["specimen"].astype(str).str.strip())
+    if len(names) != 1:
+        return None
+    try:
+        return reference_block(names.pop())
+    except ValueError:
+        return None
+
+
+def _characteristic_value(
+    table: pd.DataFrame, src: TableSource, column: str, given: float | None, option: str
+) -> np.ndarray:
+    """A condition: the argument, else the column or its ``meta_`` column."""
+    if given is not None:
+        return np.full(len(table), float(given))
+    for col in (column, f"meta_{column}"):
+        if col in table.columns:
+            return src.numbers(table, col)
+    raise src.error(f"no '{column}' (neither a column nor a '# {column}:' line in the run "
+                    f"files); give {option}")
+
+
+def _characteristic_sipes(
+    table: pd.DataFrame, src: TableSource, given: int | None
+) -> np.ndarray:
+    """``n_sipes``: the argument, the column, or the specimen's reference block."""
+    if given is None and not ({"n_sipes", "meta_n_sipes"} & set(table.columns)):
+        block = _specimen_block(table)
+        if block is not None:
+            return np.full(len(table), block.n_sipes)
+    return _characteristic_value(
+        table, src, "n_sipes", given, "--n-sipes N (or name a reference block G0/G3/G5/G6/G7 "
+        "as the runs' specimen)")
+
+
+def _characteristic_pressure(
+    table: pd.DataFrame, src: TableSource, given: float | None
+) -> np.ndarray:
+    """Nominal pressure, bar: the argument, the recorded pressure, or force over area."""
+    if given is not None:
+        return np.full(len(table), float(given))
+    if "normal_pressure_Pa" in table.columns:
+        p = src.numbers(table, "normal_pressure_Pa", finite=False)
+        if np.all(np.isfinite(p)):
+            return p / 1e5
+    block = _specimen_block(table)
+    if "normal_force_N" in table.columns and block is not None:
+        force = src.numbers(table, "normal_force_N")
+        return force / (block.nominal_area_mm2 * 1e-6) / 1e5
+    raise src.error("no nominal pressure (normal_pressure_Pa, or normal_force_N with a "
+                    "reference block G0/G3/G5/G6/G7 as the specimen); give --pressure-bar P")
+
+
+def _characteristic_mu_std(table: pd.DataFrame, out: pd.DataFrame) -> np.ndarray | None:
+    """The noise of each mu: the repeats' pooled scatter, or an aggregate's standard error."""
+    if {"mu_std_runs", "n_runs"} <= set(table.columns):
+        sd = pd.to_numeric(table["mu_std_runs"], errors="coerce").to_numpy(float)
+        n_runs = pd.to_numeric(table["n_runs"], errors="coerce").to_numpy(float)
+        if np.all(np.isfinite(sd) & (sd > 0) & (n_runs >= 2)):
+            return sd / np.sqrt(n_runs)
+    keys = [str(x) for x in velocity_levels(out["velocity_mps"].to_numpy(float))]
+    for col in ("specimen", "condition"):
+        if col in table.columns:
+            keys = [f"{k}|{x}" for k, x in zip(keys, table[col].astype(str), strict=True)]
+    sigma, dof = replicate_noise(out["mu"].to_numpy(float), np.asarray(keys))
+    return np.full(len(out), sigma) if dof > 0 and math.isfinite(sigma) else None
 
 
 class SteadyProblem:
@@ -174,6 +356,10 @@ class SteadyProblem:
 
     Notes
     -----
+    Hold-out groups (:attr:`groups`): one condition each (:data:`GROUP_COLUMNS`); a table
+    of one condition is grouped by velocity level instead (repeats at one velocity
+    together).
+
     Base (nuisance) parameter: one factor on mu (``n_base = 1``), fitted in closed form by
     weighted least squares. It stands for the overall level that a new ice batch or
     rubber run-in shifts (``mu_dry`` and the real-contact law act almost as a factor), and
@@ -235,6 +421,10 @@ class SteadyProblem:
         ).reset_index(drop=True)
         keys = self.conditions[list(GROUP_COLUMNS)].round(9)
         self.groups = keys.groupby(list(GROUP_COLUMNS), sort=False).ngroup().to_numpy()
+        if np.unique(self.groups).size < 2:
+            # one condition (a velocity sweep of one specimen): hold out a whole velocity,
+            # its repeats together, so that no repeat of a held-out point is trained on
+            self.groups = velocity_levels(self.conditions["velocity_mps"].to_numpy())
         self._fingerprint = hashlib.sha1(
             self.conditions.to_numpy(float).tobytes() + repr(self.params).encode()
         ).hexdigest()

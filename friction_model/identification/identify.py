@@ -50,6 +50,7 @@ from friction_model._fitting import covariance_with_stderr
 from friction_model._table_io import TableSource, read_table
 from friction_model.contact.laws import FrictionLaw, fit_law
 from friction_model.dynamics.rigid import SdofParams
+from friction_model.replicates import replicate_noise, velocity_levels
 
 logger = logging.getLogger(__name__)
 
@@ -143,12 +144,20 @@ class SteadyCharacteristic:
         1-sigma errors of mu; estimated from the residuals when omitted.
     name : str
         Label in results and messages.
+    noise_source : {"given", "replicates", "residuals"}, optional
+        Where ``sigma`` came from: ``"replicates"`` (the pooled scatter of repeated runs),
+        ``"given"`` (a standard error in the table); default ``"given"`` with a sigma,
+        ``"residuals"`` without.
+    noise_dof : int, optional
+        Degrees of freedom of the noise estimate (None: unknown, or taken as exact).
     """
 
     velocity_mps: np.ndarray
     mu: np.ndarray
     sigma: np.ndarray | float | None = None
     name: str = "steady"
+    noise_source: str | None = None
+    noise_dof: int | None = None
 
     def __post_init__(self) -> None:
         v = np.asarray(self.velocity_mps, dtype=float).ravel()
@@ -167,6 +176,20 @@ class SteadyCharacteristic:
             if not np.all(np.isfinite(s) & (s > 0)):
                 raise ValueError(f"{self.name}: sigma must be finite and > 0")
             object.__setattr__(self, "sigma", s)
+        source = self.noise_source or ("residuals" if self.sigma is None else "given")
+        if source not in ("given", "replicates", "residuals") or (
+            (source == "residuals") != (self.sigma is None)
+        ):
+            raise ValueError(
+                f"{self.name}: noise_source must be 'residuals' without sigma and 'given' or "
+                f"'replicates' with one, got {self.noise_source!r}"
+            )
+        object.__setattr__(self, "noise_source", source)
+
+    @property
+    def n_velocities(self) -> int:
+        """Number of distinct velocity levels (repeats at one velocity counted once)."""
+        return int(velocity_levels(self.velocity_mps).max()) + 1
 
 
 def _read_csv(
@@ -190,8 +213,9 @@ def read_characteristic(
 
     Accepts the two steady formats of docs/formats.md: the synthetic "Steady table"
     (``velocity_mps, mu[, mu_std]``) and the evaluation's ``steady_characteristic.csv``
-    (``row_type, velocity_mps, mu_mean_method1, mu_std_runs``; the ``aggregate`` rows when
-    there are any, else the ``run`` rows).
+    (``row_type, velocity_mps, mu_mean_method1, mu_std_runs``). Of the evaluation's file
+    the ``run`` rows are used where there are any (every repeat is a measurement: n = 9 for
+    three runs at three velocities, not 3), else the ``aggregate`` rows.
 
     Parameters
     ----------
@@ -203,8 +227,12 @@ def read_characteristic(
     Returns
     -------
     SteadyCharacteristic
-        ``sigma`` from ``mu_std`` / ``mu_std_runs`` when every selected row has a positive
-        value, else None (estimated in the fit).
+        ``sigma``, the noise of one point: a steady table's ``mu_std`` where every selected
+        row has a positive one; for ``aggregate`` rows the standard error of their mean,
+        ``mu_std_runs / sqrt(n_runs)``; else, where points repeat a velocity (same
+        ``specimen`` and ``condition``), the pooled replicate standard deviation
+        (:func:`~friction_model.identification.law_choice.replicate_noise`,
+        ``noise_source="replicates"``); else None (estimated from a fit's residuals).
 
     Raises
     ------
@@ -212,8 +240,8 @@ def read_characteristic(
         Missing columns, unknown ``select`` columns or no rows left (naming the file).
     """
     table, src = _read_csv(source)
-    aggregate = "mu_mean_method1" in table.columns and "mu" not in table.columns
-    mu_col, sd_col = ("mu_mean_method1", "mu_std_runs") if aggregate else ("mu", "mu_std")
+    evaluation = "mu_mean_method1" in table.columns and "mu" not in table.columns
+    mu_col, sd_col = ("mu_mean_method1", "mu_std_runs") if evaluation else ("mu", "mu_std")
     err = src.missing(
         ("velocity_mps", mu_col),
         list(table.columns),
@@ -224,20 +252,16 @@ def read_characteristic(
         raise err
     # numbers checked on every row before any row is dropped, so that messages count the
     # rows of the file (the index stays the row position from here on)
-    for col in ("velocity_mps", mu_col, sd_col):
+    for col in ("velocity_mps", mu_col, sd_col, "n_runs"):
         if col in table.columns:
             table = table.assign(**{col: src.numbers(table, col, finite=False)})
-    if aggregate and "row_type" in table.columns and (table["row_type"] == "aggregate").any():
-        table = table[table["row_type"] == "aggregate"]
-    for key, value in (select or {}).items():
-        if key not in table.columns:
-            raise src.error(f"cannot select on {key!r}: no such column", column=key)
-        col = table[key]
-        if isinstance(value, int | float) and pd.api.types.is_numeric_dtype(col):
-            mask = np.isclose(col.to_numpy(float), float(value), rtol=1e-9, atol=1e-12)
-        else:
-            mask = col.astype(str).to_numpy() == str(value)
-        table = table[mask]
+    if evaluation and "row_type" in table.columns:
+        kinds = table["row_type"].astype(str).str.strip()
+        for kind in ("run", "aggregate"):
+            if (kinds == kind).any():
+                table = table[kinds == kind]
+                break
+    table = _select_rows(table, select, src)
     table = table[np.isfinite(table[mu_col].to_numpy(float))]
     if len(table) < 2:
         raise src.error(
@@ -254,17 +278,55 @@ def read_characteristic(
             column="velocity_mps",
             index=i,
         )
-    sigma = None
+    mu = table[mu_col].to_numpy(float)
+    sigma, noise_source, noise_dof = _characteristic_noise(table, sd_col, v, mu)
+    return SteadyCharacteristic(
+        velocity_mps=v,
+        mu=mu,
+        sigma=sigma,
+        name=os.path.basename(src.file),
+        noise_source=noise_source,
+        noise_dof=noise_dof,
+    )
+
+
+def _select_rows(
+    table: pd.DataFrame, select: Mapping[str, Any] | None, src: TableSource
+) -> pd.DataFrame:
+    """The rows whose columns equal the values of ``select`` (numbers to 1e-9 relative)."""
+    for key, value in (select or {}).items():
+        if key not in table.columns:
+            raise src.error(f"cannot select on {key!r}: no such column", column=key)
+        col = table[key]
+        if isinstance(value, int | float) and pd.api.types.is_numeric_dtype(col):
+            mask = np.isclose(col.to_numpy(float), float(value), rtol=1e-9, atol=1e-12)
+        else:
+            mask = col.astype(str).to_numpy() == str(value)
+        table = table[mask]
+    return table
+
+
+def _characteristic_noise(
+    table: pd.DataFrame, sd_col: str, v: np.ndarray, mu: np.ndarray
+) -> tuple[np.ndarray | None, str | None, int | None]:
+    """The noise of each point of a characteristic: given, from repeats, or unknown."""
     if sd_col in table.columns:
         sd = table[sd_col].to_numpy(float)
         if np.all(np.isfinite(sd) & (sd > 0)):
-            sigma = sd
-    return SteadyCharacteristic(
-        velocity_mps=v,
-        mu=table[mu_col].to_numpy(float),
-        sigma=sigma,
-        name=os.path.basename(src.file),
-    )
+            if "n_runs" not in table.columns:
+                return sd, "given", None
+            n_runs = table["n_runs"].to_numpy(float)
+            if np.all(np.isfinite(n_runs) & (n_runs >= 2)):
+                # an aggregate row is the mean of n_runs runs: its standard error
+                return sd / np.sqrt(n_runs), "given", int(np.sum(n_runs - 1))
+    keys = [str(x) for x in velocity_levels(v)]
+    for col in ("specimen", "condition"):
+        if col in table.columns:
+            keys = [f"{k}|{x}" for k, x in zip(keys, table[col].astype(str), strict=True)]
+    s, dof = replicate_noise(mu, np.asarray(keys))
+    if dof > 0 and math.isfinite(s):
+        return np.full(mu.size, s), "replicates", dof
+    return None, None, None
 
 
 def deflection_series_from_pipeline(

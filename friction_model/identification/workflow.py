@@ -11,8 +11,9 @@ transient tables and a steady characteristic, and returns the sections of a para
   (:func:`~friction_model.identification.coupling.contact_from_pipeline`);
 * ``lever_arm``: e(phi) of Eq. 5.21 fitted to the TIR results
   (:func:`~friction_model.identification.coupling.fit_lever_arm`);
-* ``friction_law``: mu(v) fitted to the characteristic, the law chosen by the lowest AICc
-  (:func:`choose_friction_law`);
+* ``friction_law``: mu(v) fitted to the characteristic (its repeated runs where there are
+  any), the law chosen by :func:`choose_friction_law`, with its reduced chi-square against
+  the replicate noise and intervals widened by any misfit;
 * ``element``: E and the loss factor identified together with the law from deflection
   series with a velocity change
   (:func:`~friction_model.identification.identify.identify_parameters`).
@@ -21,6 +22,7 @@ transient tables and a steady characteristic, and returns the sections of a para
 from __future__ import annotations
 
 import json
+import math
 import os
 import warnings
 from collections.abc import Mapping, Sequence
@@ -30,7 +32,6 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from scipy import stats
 
 from friction_model.contact import laws
 from friction_model.discrepancy import read_transient_table
@@ -50,12 +51,19 @@ from friction_model.identification.identify import (
     identify_parameters,
     read_characteristic,
 )
-from friction_model.model_selection import aicc_rss
+from friction_model.identification.law_choice import (
+    AUTO_LAWS,
+    LawChoice,
+    LawUndecidable,
+    choose_law,
+    law_interval,
+)
 from friction_model.params_file import SECTIONS, ParameterFileError, write_parameters
 
 __all__ = [
     "AUTO_LAWS",
     "CalibratedParameters",
+    "LawUndecidable",
     "block_geometry_from_meta",
     "block_normal_force_N",
     "calibrate_from_results",
@@ -63,8 +71,6 @@ __all__ = [
     "footage_meta",
 ]
 
-#: Laws ``law="auto"`` compares by AICc.
-AUTO_LAWS = ("ConstantLaw", "DecreasingSqrtLaw", "IncreasingSqrtLaw", "ExponentialLaw")
 #: Starting parameters of each law when there is no characteristic to fit it to.
 _DEFAULT_LAW_PARAMS: dict[str, dict[str, float]] = {
     "ConstantLaw": {"mu0": 0.15},
@@ -112,6 +118,15 @@ class CalibratedParameters:
             law_text = f"; {fl['law']} " + ", ".join(
                 f"{k}={v:.4g}" for k, v in fl["params"].items()
             )
+            if "rmse" in fl and "n_points" in fl:
+                law_text += f" (RMSE {fl['rmse']:.2g} over {fl['n_points']} points"
+                if "reduced_chi2" in fl:
+                    law_text += (f", noise {fl['noise_sigma']:.2g} from "
+                                 f"{fl['noise_source']}, reduced chi-square "
+                                 f"{fl['reduced_chi2']:.3g}")
+                law_text += ")"
+            if fl.get("selection") and fl["selection"] != "named (--law)":
+                law_text += f"; chosen: {fl['selection']}"
         return f"{', '.join(['geometry', *self.identified])}{law_text}"
 
     def write(self, path: str | os.PathLike[str]) -> Path:
@@ -221,15 +236,17 @@ def block_normal_force_N(pressure_bar: float, geometry: BlockGeometry) -> float:
 
 def choose_friction_law(
     name: str, steady: SteadyCharacteristic | None
-) -> tuple[laws.FrictionLaw, laws.FitResult | None]:
+) -> tuple[laws.FrictionLaw, LawChoice | None]:
     """A friction law fitted to the characteristic, or a default law without one.
 
     Parameters
     ----------
     name : str
-        A law of :mod:`friction_model.contact.laws` (its class name), or ``"auto"``: every
-        law of :data:`AUTO_LAWS` is fitted and the one with the lowest AICc
-        (:func:`~friction_model.model_selection.aicc_rss` of the weighted residuals) is kept.
+        A law of :mod:`friction_model.contact.laws` (its class name), or ``"auto"``: the
+        laws of :data:`AUTO_LAWS` are fitted and one is chosen by
+        :func:`~friction_model.identification.law_choice.choose_law` (laws the data
+        contradict are out; AICc ranks the rest; parsimony within
+        :data:`~friction_model.identification.law_choice.AICC_MARGIN`).
     steady : SteadyCharacteristic or None
         The characteristic; None gives the law (``auto``: DecreasingSqrtLaw) with default
         starting parameters.
@@ -237,34 +254,22 @@ def choose_friction_law(
     Returns
     -------
     law : FrictionLaw
-    fit : FitResult or None
-        The fit of the chosen law (None without a characteristic).
+    choice : LawChoice or None
+        The fit of the chosen law, its quality and why it was chosen (None without a
+        characteristic).
 
     Raises
     ------
+    LawUndecidable
+        ``auto`` when the data cannot tell the laws in play apart (a ValueError naming them).
     ValueError
         The named law cannot be fitted, or (``auto``) none can.
     """
     if steady is None:
         cls = laws.DecreasingSqrtLaw if name == "auto" else getattr(laws, name)
         return cls(**_DEFAULT_LAW_PARAMS[cls.__name__]), None
-    best: tuple[float, laws.FitResult] | None = None
-    for cand in AUTO_LAWS if name == "auto" else (name,):
-        cls = getattr(laws, cand)
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                fit = laws.fit_law(cls, steady.velocity_mps, steady.mu, sigma=steady.sigma)
-        except (ValueError, RuntimeError) as exc:
-            if name != "auto":
-                raise ValueError(f"{steady.name}: fitting {cand} failed: {exc}") from None
-            continue
-        score = aicc_rss(fit.chi2, len(cls.param_names), fit.n_points)
-        if best is None or score < best[0]:
-            best = (score, fit)
-    if best is None:
-        raise ValueError(f"{steady.name}: no friction law could be fitted")
-    return best[1].law, best[1]
+    choice = choose_law(steady, name, AUTO_LAWS)
+    return choice.fit.law, choice
 
 
 @dataclass
@@ -459,21 +464,32 @@ def _lever_arm_section(
     return fit.to_dict(observation=opts.lever_arm_from)
 
 
-def _law_fit_section(law_fit: laws.FitResult, level: float) -> dict[str, Any]:
-    """The ``friction_law`` section of a law fitted to the characteristic alone."""
-    q = float(stats.t.ppf(0.5 + 0.5 * level, max(law_fit.dof, 1)))
-    names = [k for k in law_fit.params if k not in law_fit.fixed]
-    return {
-        "law": type(law_fit.law).__name__,
-        "equation": law_fit.law.equation,
-        "params": law_fit.params,
-        "stderr": {k: law_fit.stderr[k] for k in names},
-        "ci_low": {k: law_fit.params[k] - q * law_fit.stderr[k] for k in names},
-        "ci_high": {k: law_fit.params[k] + q * law_fit.stderr[k] for k in names},
+def _law_fit_section(choice: LawChoice, level: float) -> dict[str, Any]:
+    """The ``friction_law`` section of a law fitted to the characteristic alone: the
+    parameters, intervals widened by the misfit, the fit's quality and why the law."""
+    fit, quality = choice.fit, choice.quality
+    section: dict[str, Any] = {
+        "law": choice.name,
+        "equation": fit.law.equation,
+        "params": fit.params,
+        **law_interval(fit, quality, level),
         "confidence_level": level,
-        "rmse": law_fit.rmse,
-        "n_points": law_fit.n_points,
+        "rmse": fit.rmse,
+        "n_points": fit.n_points,
+        "noise_source": quality.noise_source,
+        "interval_scale": quality.interval_scale,
+        "selection": choice.rule,
+        "aicc": {k: c["aicc"] for k, c in choice.candidates.items()},
     }
+    if math.isfinite(quality.noise_sigma):
+        section["noise_sigma"] = quality.noise_sigma
+    if quality.noise_dof is not None:
+        section["noise_dof"] = quality.noise_dof
+    if math.isfinite(quality.reduced_chi2):
+        section["reduced_chi2"] = quality.reduced_chi2
+    if quality.testable:
+        section["misfit_p_value"] = quality.p_value
+    return section
 
 
 def _element_and_law_sections(
@@ -492,6 +508,8 @@ def _element_and_law_sections(
     if steady is None and not series:
         return {}
     law, law_fit = choose_friction_law(law_name, steady)
+    if law_fit is not None:
+        notes.extend(f"friction law: {note}" for note in law_fit.notes)
     dynamic = [s for s in series if np.ptp(s.velocity_mps) > 0]
     if series and not dynamic:
         notes.append(

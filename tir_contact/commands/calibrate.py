@@ -17,13 +17,18 @@ deflection time series of element 0. A
 ``meta.json`` in the folder (or its parent), else the metadata ``tir-contact analyze`` recorded
 in ``summary.json``, supplies the block, pressure, velocity and sliding
 direction; the options override it. ``--characteristic`` is a steady table or the
-evaluation's ``steady_characteristic.csv`` (mu(v), fitted with ``--law``; ``auto`` picks the
-law with the lowest AICc). ``--transient`` takes transient tables (``time_s, velocity_mps,
-angle_deg``). The element (E, loss factor) is identified together with the law
-(:func:`friction_model.identify_parameters`) when a deflection series holds a
-velocity change. The work is :func:`friction_model.calibrate_from_results`. Writes the
-parameter file (docs/formats.md "Parameter file") and prints one summary line. Exit codes:
-0 success, 1 when the data cannot be used (message on stderr), 2 for bad arguments.
+evaluation's ``steady_characteristic.csv`` (mu(v) of its repeated runs where it has them,
+fitted with ``--law``; ``auto`` leaves out the laws the replicate noise contradicts and
+ranks the rest by AICc, and when the data cannot tell them apart it says so, names the
+laws still in play and exits with code 2 asking for ``--law``). Every fit reports its
+reduced chi-square against the noise; a misfit is warned about and its intervals widened.
+``--transient`` takes transient tables (``time_s, velocity_mps, angle_deg``). The element
+(E, loss factor) is identified together with the law
+(:func:`friction_model.identify_parameters`) when a deflection series holds a velocity
+change. The work is :func:`friction_model.calibrate_from_results`. Writes the parameter
+file (docs/formats.md "Parameter file") and prints one summary line. Exit codes:
+0 success, 1 when the data cannot be used (message on stderr), 2 for bad arguments or a
+law that ``auto`` cannot decide.
 """
 
 from __future__ import annotations
@@ -43,8 +48,9 @@ DESCRIPTION = (
     "modulus and damping and a friction law mu(v) from contact-pipeline results, "
     "deflection time series and a steady characteristic; write a JSON parameter file."
 )
-#: Friction laws ``--law`` accepts (``auto``: the lowest AICc of the first four,
-#: :data:`friction_model.identification.workflow.AUTO_LAWS`).
+#: Friction laws ``--law`` accepts (``auto``: one of the first four,
+#: :data:`friction_model.identification.workflow.AUTO_LAWS`, chosen by
+#: :func:`friction_model.identification.law_choice.choose_law`).
 LAW_CHOICES = (
     "auto",
     "ConstantLaw",
@@ -171,10 +177,23 @@ def run(args: argparse.Namespace) -> int:
         when the data cannot be used).
     """
     # the model is imported when the command runs: 'tir-contact calibrate --help' stays fast
-    from friction_model.identification.workflow import calibrate_from_results
+    from friction_model.identification.workflow import LawUndecidable, calibrate_from_results
 
     _check_usage(args)
-    result = calibrate_from_results(
+    try:
+        result = _calibrate(calibrate_from_results, args)
+    except LawUndecidable as exc:
+        raise UsageError(str(exc)) from None  # exit code 2: the user must name the law
+    out = result.write(args.out)
+    for note in result.notes:
+        print(f"{PROG}: note: {note}", file=sys.stderr)
+    print(f"wrote {out}: {result.summary()}")
+    return 0
+
+
+def _calibrate(calibrate_from_results: Any, args: argparse.Namespace) -> Any:
+    """:func:`calibrate_from_results` with the command's arguments."""
+    return calibrate_from_results(
         _footage_folders(args.footage),
         args.characteristic,
         args.transient,
@@ -189,8 +208,3 @@ def run(args: argparse.Namespace) -> int:
         ci=args.ci,
         tip_velocity_feedback=not args.no_tip_feedback,
     )
-    out = result.write(args.out)
-    for note in result.notes:
-        print(f"{PROG}: note: {note}", file=sys.stderr)
-    print(f"wrote {out}: {result.summary()}")
-    return 0

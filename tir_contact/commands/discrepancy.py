@@ -7,16 +7,20 @@ Usage::
         --out DIR [--params params.json] [--effects NAME,...] [--max-effects 2]
         [--bootstrap 100] [--permutations 999] [--workers 1] [--seed 0]
         [--velocity-step V1,V2 --step-time S] [--element 0] [--n-sipes 3]
-        [--pressure-bar 1.2]
+        [--pressure-bar 1.2] [--salinity PCT]
 
 Inputs: a steady characteristic table (``velocity_mps, pressure_bar, temperature_C,
-humidity_pct, salinity_pct, n_sipes, mu[, mu_std]``), transient tables (``time_s,
-velocity_mps, angle_deg``), pipeline outputs (``elements.csv`` or an analyze result folder of
-side-view footage, with the commanded ``--velocity-step`` and ``--step-time``), or a measured
-and a simulated stick-slip frequency. ``--params`` (from ``tir-contact calibrate``) sets the
-real contact fraction of the dry/wet model from the measured contact. Writes ``result.json``,
-``report.md`` and PNG plots to DIR and prints the verdict in one line. Exit codes: 0 when the
-workflow ran (whatever the verdict), 1 when the data cannot be used, 2 for bad arguments.
+humidity_pct, salinity_pct, n_sipes, mu[, mu_std]``) or ``tir-contact evaluate``'s
+``steady_characteristic.csv`` as it is (its run rows; the pressure from its forces and the
+specimen's block, the sipes from the specimen, the salinity from ``--salinity`` where the
+run files do not record it; ``--pressure-bar`` and ``--n-sipes`` override), transient
+tables (``time_s, velocity_mps, angle_deg``), pipeline outputs (``elements.csv`` or an
+analyze result folder of side-view footage, with the commanded ``--velocity-step`` and
+``--step-time``), or a measured and a simulated stick-slip frequency. ``--params`` (from
+``tir-contact calibrate``) sets the real contact fraction of the dry/wet model from the
+measured contact. Writes ``result.json``, ``report.md`` and PNG plots to DIR and prints the
+verdict in one line. Exit codes: 0 when the workflow ran (whatever the verdict), 1 when the
+data cannot be used, 2 for bad arguments.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from tir_contact.commands._types import (
+    non_negative_number,
     output_folder,
     positive_int,
     positive_number,
@@ -72,9 +77,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--step-time", type=positive_number, default=None, metavar="S",
                    help="time of the velocity step, s (--elements; transient: from the table)")
     p.add_argument("--element", type=int, default=0, help="element of --elements (default 0)")
-    p.add_argument("--n-sipes", type=int, default=3, help="sipes of the block (transient)")
-    p.add_argument("--pressure-bar", type=positive_number, default=1.2,
-                   help="nominal pressure, bar (transient, default 1.2)")
+    p.add_argument("--n-sipes", type=int, default=None,
+                   help="sipes of the block (transient: default 3; a steady_characteristic.csv: "
+                   "default its specimen's reference block)")
+    p.add_argument("--pressure-bar", type=positive_number, default=None,
+                   help="nominal pressure, bar (transient: default 1.2; a "
+                   "steady_characteristic.csv: default its normal_pressure_Pa, or its normal "
+                   "force over the specimen's nominal area)")
+    p.add_argument("--salinity", type=non_negative_number, default=None, metavar="PCT",
+                   help="salinity of the ice, %% (a steady_characteristic.csv without a "
+                   "salinity_pct column or header line; 0 for fresh-water ice)")
 
 
 def _drywet_params(path: Path | None) -> Any:
@@ -120,15 +132,17 @@ def _problem(args: argparse.Namespace) -> Any:
     if args.steady is not None:
         if not args.steady.is_file():
             raise ValueError(f"{args.steady}: does not exist")
-        return SteadyProblem(read_steady_table(args.steady), params=_drywet_params(args.params))
+        table = read_steady_table(args.steady, salinity_pct=args.salinity,
+                                  pressure_bar=args.pressure_bar, n_sipes=args.n_sipes)
+        return SteadyProblem(table, params=_drywet_params(args.params))
     if args.transient is not None:
         for path in args.transient:
             if not path.is_file():
                 raise ValueError(f"{path}: does not exist")
         tables = [read_transient_table(p) for p in args.transient]
         return TransientProblem.from_tables(
-            tables, labels=[p.stem for p in args.transient], n_sipes=args.n_sipes,
-            pressure_bar=args.pressure_bar, t_step_s=args.step_time)
+            tables, labels=[p.stem for p in args.transient], n_sipes=_sipes(args),
+            pressure_bar=_pressure(args), t_step_s=args.step_time)
     if args.velocity_step is None or args.step_time is None:
         raise ValueError("--elements needs --velocity-step V1,V2 and --step-time S")
     tables = _elements_table(args.elements)
@@ -139,7 +153,17 @@ def _problem(args: argparse.Namespace) -> Any:
     v1, v2 = args.velocity_step
     return TransientProblem.from_elements(
         table, v1_mps=v1, v2_mps=v2, t_step_s=args.step_time, element=args.element,
-        n_sipes=args.n_sipes, pressure_bar=args.pressure_bar)
+        n_sipes=_sipes(args), pressure_bar=_pressure(args))
+
+
+def _sipes(args: argparse.Namespace) -> int:
+    """``--n-sipes`` of a transient problem (default 3)."""
+    return 3 if args.n_sipes is None else args.n_sipes
+
+
+def _pressure(args: argparse.Namespace) -> float:
+    """``--pressure-bar`` of a transient problem (default 1.2 bar)."""
+    return 1.2 if args.pressure_bar is None else args.pressure_bar
 
 
 def _run_stick_slip(args: argparse.Namespace) -> int:
