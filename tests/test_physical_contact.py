@@ -285,6 +285,7 @@ def block_clip(tmp_path_factory):
 
 
 @needs_tamaas
+@pytest.mark.slow  # the block's contact levels solve in about 8 s
 def test_physical_block_truth_is_the_solved_share_of_the_pressure_cells(block_clip):
     import pandas as pd
 
@@ -330,6 +331,7 @@ def test_physical_block_truth_is_the_solved_share_of_the_pressure_cells(block_cl
 
 
 @needs_tamaas
+@pytest.mark.slow
 def test_physical_block_writes_covered_fraction_of_three_frames(block_clip):
     import pandas as pd
     import tifffile
