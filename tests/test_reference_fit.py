@@ -117,7 +117,9 @@ def test_bright_contact_and_a_sub_pixel_shift():
     fit = fit_reference(0.8 * scene(1.3, -0.6), footage, contact_is="bright")
     assert fit.fits
     assert fit.gain == pytest.approx(1.25, rel=1e-3)
-    assert fit.shift_px == pytest.approx((-1.3, 0.6), abs=0.01)
+    # OpenCV's bilinear warp quantises sub-pixel positions to 1/32 px (INTER_BITS = 5):
+    # that is the method's resolution (opencv 4.8 gives -1.287, newer ones within 0.01)
+    assert fit.shift_px == pytest.approx((-1.3, 0.6), abs=1 / 32)
     with pytest.raises(ValueError, match="one shape"):
         fit_reference(footage[:-1], footage)
 
