@@ -124,9 +124,8 @@ def test_rough_contact_area_grows_as_kappa_p_over_e_star_slope():
     kappas = []
     for seed in (1, 2, 3, 4):
         h = rough_heights(rough, size, 512, seed)
-        # tolerance 1e-6 counts the same grid points in contact as 1e-8 on these four
-        # surfaces, in three quarters of the time
-        solved = solve_contact(h, size, p, e_star, tolerance=1e-6)
+        # the default tolerance (1e-10): converged in every tamaas version we allow
+        solved = solve_contact(h, size, p, e_star)
         kappas.append(solved.contact_fraction / 0.01)
     assert np.mean(kappas) == pytest.approx(2.0, rel=0.15)
 
