@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import gaussian_filter
 
+from synthetic._real_contact import pool
 from synthetic.ftir import FtirOptics
 from synthetic.roughness import (
     ContactField,
@@ -249,12 +250,8 @@ def render_physical(
     if setup.optical_blur_mm > 0.0:
         light = gaussian_filter(light, setup.optical_blur_mm / step, mode="nearest")
     depth = setup.optics.evanescent_depth_m
-
-    def pool(a: np.ndarray) -> np.ndarray:
-        return a.reshape(r1 - r0, ss, c1 - c0, ss).mean(axis=(1, 3)).astype(np.float32)
-
-    refl[r0:r1, c0:c1] = pool(light)
-    covered[r0:r1, c0:c1] = pool((gap == 0.0).astype(np.float64))
-    near[r0:r1, c0:c1] = pool((gap < 0.1 * depth).astype(np.float64))
-    nominal[r0:r1, c0:c1] = pool(inside_disc.astype(np.float64))
+    refl[r0:r1, c0:c1] = pool(light, ss)
+    covered[r0:r1, c0:c1] = pool((gap == 0.0).astype(np.float64), ss)
+    near[r0:r1, c0:c1] = pool((gap < 0.1 * depth).astype(np.float64), ss)
+    nominal[r0:r1, c0:c1] = pool(inside_disc.astype(np.float64), ss)
     return PhysicalRender(refl, covered, near, nominal)

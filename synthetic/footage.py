@@ -133,7 +133,7 @@ from synthetic._render_tir import (
 from synthetic._writers import FrameSink, open_sink, write_meta
 from synthetic.ftir import GAP_INDEX, SUBSTRATE_INDEX, FtirOptics
 from synthetic.roughness import ROUGHNESS_PRESETS, e_star_Pa
-from tir_common.atomic import json_safe
+from tir_common.atomic import atomic_write, json_safe
 from tir_common.progress import progress_bar
 from tir_common.validate import check_number
 
@@ -1639,6 +1639,10 @@ class _Clip:
         spec, cam = self.spec, self.spec.camera
         lat_rows = np.nonzero(self.lateral.max(axis=1) > 0)[0]
         self._phys_rows = (int(lat_rows[0]), int(lat_rows[-1]) + 1)
+        r0, r1 = self._phys_rows
+        # area of each pixel the truth counts: lateral coverage x lit mask x pixel area
+        px = cam.mm_per_px
+        self._phys_weight = self.lateral[r0:r1] * self.lit.mask[r0:r1] * px * px
         rows = np.arange(*self._phys_rows, dtype=np.float64)
         row_v = rows * cam.mm_per_px - self.path.centre[1] - self.path.lateral_mm
         states = self.states
@@ -1710,7 +1714,7 @@ class _Clip:
                 cov = np.zeros(base.shape, np.float32)
                 cov[r0:r1, c0:c1] = cov_i.box_means(lo[c0:c1], hi[c0:c1]) * lat[:, c0:c1]
                 self.last_covered = cov
-        weight = lat * self.lit.mask[r0:r1] * px * px
+        weight = self._phys_weight
         real, near = np.zeros(n), np.zeros(n)
         for i, span in enumerate(spans):
             if span is None:
@@ -2235,10 +2239,29 @@ def render_footage(
     return out
 
 
+def _physical_meta(spec: FootageSpec) -> dict[str, Any]:
+    """The ``meta.json`` entry ``physical_contact`` of a physical spec."""
+    rough, optics = ROUGHNESS_PRESETS[spec.roughness], spec.optics
+    entry: dict[str, Any] = {"scene": spec.scene}
+    if spec.is_static:
+        setup = physical_setup(spec)
+        entry.update(centre_mm=list(setup.centre_mm), nominal_radius_mm=setup.nominal_radius_mm)
+    entry.update(
+        roughness=dataclasses.asdict(rough) | {"rms_height_m": rough.rms_height_m},
+        optics=dataclasses.asdict(optics) | {"evanescent_depth_m": optics.evanescent_depth_m},
+        e_star_Pa=e_star_Pa(),
+        solver="tamaas PolonskyKeerRey",
+    )
+    if spec.is_static:
+        entry["covered_fraction_file"] = "covered_fraction.tif"
+    else:
+        entry["covered_fraction_dir"] = "covered_fraction"
+    return entry
+
+
 def _write_atomic_tiff(path: Path, image: np.ndarray) -> None:
-    tmp = path.with_name(path.name + ".part")
-    tifffile.imwrite(tmp, np.asarray(image, dtype=np.float32))
-    tmp.replace(path)
+    data = np.asarray(image, dtype=np.float32)
+    atomic_write(path, lambda tmp: tifffile.imwrite(tmp, data))
 
 
 def _fmt(v: Any) -> str:
@@ -2273,31 +2296,8 @@ def _write_lit_mask(out: Path, spec: FootageSpec, zone: LitZone) -> dict[str, An
         "real_contact": spec.real_contact,
         "jpeg_quality": cam.jpeg_quality,
     }
-    if spec.real_contact == "physical":
-        rough = ROUGHNESS_PRESETS[spec.roughness]
-        entries["physical_contact"] = {
-            "scene": "block",
-            "roughness": dataclasses.asdict(rough) | {"rms_height_m": rough.rms_height_m},
-            "optics": dataclasses.asdict(spec.optics)
-            | {"evanescent_depth_m": spec.optics.evanescent_depth_m},
-            "e_star_Pa": e_star_Pa(),
-            "solver": "tamaas PolonskyKeerRey",
-            "covered_fraction_dir": "covered_fraction",
-        }
-    elif spec.is_physical:
-        setup = physical_setup(spec)
-        entries["physical_contact"] = {
-            "scene": spec.scene,
-            "centre_mm": list(setup.centre_mm),
-            "nominal_radius_mm": setup.nominal_radius_mm,
-            "roughness": dataclasses.asdict(setup.roughness)
-            | {"rms_height_m": setup.roughness.rms_height_m},
-            "optics": dataclasses.asdict(setup.optics)
-            | {"evanescent_depth_m": setup.optics.evanescent_depth_m},
-            "e_star_Pa": e_star_Pa(),
-            "solver": "tamaas PolonskyKeerRey",
-            "covered_fraction_file": "covered_fraction.tif",
-        }
+    if spec.is_physical:
+        entries["physical_contact"] = _physical_meta(spec)
     elif spec.is_static:
         sc = static_scene(spec)
         entries["static_contact"] = {
