@@ -37,6 +37,7 @@ from tir_contact.features import (
     element_records,
     frame_rows,
 )
+from tir_contact.measure import frame_area
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup
 from tir_contact.segment import FrameContact, _box_and_counts, _label_box, label_contact
@@ -201,6 +202,7 @@ class FrameAnalyser:
         row["frame"] = k
         row["time_s"] = t
         row["n_regions"] = contact.n_regions
+        self._measure(frame, row)
         row["block_fully_in_view"] = row["block_in_view"] and fully_in_view(
             row["block_front_x_mm"], s)
         at_rim = self._at_rim(contact) if self._rim is not None else None
@@ -212,6 +214,20 @@ class FrameAnalyser:
             regions["at_lit_rim"] = (at_rim[1:] if at_rim is not None
                                      else np.zeros(contact.n_regions, bool))
         return FrameResult(row, el_rows, regions, contact)
+
+    def _measure(self, frame: np.ndarray, row: dict[str, Any]) -> None:
+        """The frame's contact area as a measurement, with its error bar
+        (:func:`tir_contact.measure.frame_area`)."""
+        model = self.setup.area_model
+        px2 = self.setup.mm_per_px ** 2
+        if model is None:
+            area = row["contact_area_mm2"]
+            row["contact_area_low_mm2"] = row["contact_area_high_mm2"] = area
+            return
+        a = frame_area(self.normalise(frame), model)
+        row["contact_area_mm2"] = a.area_px * px2
+        row["contact_area_low_mm2"] = a.low_px * px2
+        row["contact_area_high_mm2"] = a.high_px * px2
 
     def _at_rim(self, contact: FrameContact) -> np.ndarray:
         """Which regions (index = label, 0 unused) touch the rim of the lit zone."""

@@ -48,6 +48,8 @@ FRAME_COLUMNS = [
     "block_fully_in_view",
     *FRAME_KEYS[7:],
     "contact_at_lit_rim",
+    "contact_area_low_mm2",
+    "contact_area_high_mm2",
 ]
 
 #: Columns of ``elements.csv``, in order (element 0 leads): the frame and its time, then
@@ -203,8 +205,9 @@ def _steady(frames: pd.DataFrame, elements: pd.DataFrame) -> dict[str, Any]:
     """
     full = frames["block_fully_in_view"].to_numpy().astype(bool)
     out: dict[str, Any] = {"n_frames": int(full.sum())}
-    for col in ("contact_area_mm2", "contact_ratio", "front_peak_contrast",
-                "deflection_angle_deg", "tip_deflection_mm"):
+    for col in ("contact_area_mm2", "contact_area_low_mm2", "contact_area_high_mm2",
+                "contact_ratio", "front_peak_contrast", "deflection_angle_deg",
+                "tip_deflection_mm"):
         if col not in frames:
             continue
         values = pd.Series(frames[col].to_numpy()[full])
@@ -334,6 +337,8 @@ def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
         **_tir_assumptions(setup),
         "contrast": setup.contrast,
         "threshold": _finite_or_none(setup.threshold),
+        **({"populations": setup.area_model.summary()} if setup.area_model is not None
+           else {}),
         "meta": setup.meta,
         "options": asdict(options),
         "fingerprint": footage_fingerprint(path),

@@ -25,6 +25,7 @@ from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.features import BlockLayout
 from tir_contact.flatfield import Reference, reference_from_frames
 from tir_contact.illumination import lit_zone_from_file
+from tir_contact.measure import AreaModel, area_model
 from tir_contact.meta import META_FILENAME, clip_footage, find_meta, load_meta, read_meta_json
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
@@ -239,6 +240,9 @@ class VideoSetup:
     reference_fit : ReferenceFit or None
         TIR with ``--reference``: gain, shift and residual of the user's image fitted to
         the footage (:func:`tir_contact.reference_fit.fit_reference`).
+    area_model : AreaModel or None
+        TIR: the free-surface and contact darkness populations the contact area is measured
+        against (:func:`tir_contact.measure.area_model`).
     """
     meta: dict[str, Any]
     view: str
@@ -263,6 +267,7 @@ class VideoSetup:
     level_valid: np.ndarray | None = None  # side view: pixels inside the frame once turned
     notes: list[str] = field(default_factory=list)  # what the user must know (warnings)
     reference_fit: ReferenceFit | None = None  # TIR: the user's reference fitted (gain, shift)
+    area_model: AreaModel | None = None  # TIR: free-surface and contact darkness populations
 
 
 def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
@@ -357,17 +362,20 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     if contrast is None and tref is not None:
         contrast = _contrast(samples, tref, contact_is, options)
     threshold = math.nan
+    model = None
     if tref is not None:  # pixels too noisy for the threshold are not measured
         threshold = _threshold(contrast, options, tref.camera)
         tref = measurable(tref, threshold, n_sigma=options.noise_sigmas)
         reference = tref.reference
+        model = _area_model(samples, tref, contact_is, options)
+        notes += model.notes
     layout = BlockLayout.from_meta(meta)
     camera = tref.camera if tref is not None else side_camera or (
         "fixed" if reference is not None else "follows")
     return VideoSetup(meta, view, contact_is, float(meta["fps"]), float(meta["mm_per_px"]), layout,
                   reference, method, contrast, n, shape, max_dn, skipped, numbers, bad,
                   grey_range, camera, tref, threshold, level_deg, level_valid, notes,
-                  ref_fit)
+                  ref_fit, model)
 
 
 #: A side view without a block-free frame needs the block to leave some background beside
@@ -433,6 +441,17 @@ def _contrast(samples: list[np.ndarray], tref: TirReference, contact_is: str,
               for f in samples]
     finite = [v for v in values if np.isfinite(v)]
     return float(np.median(finite)) if finite else None
+
+
+def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
+                options: AnalysisOptions) -> AreaModel:
+    """The darkness populations of a TIR video (:func:`tir_contact.measure.area_model`) from
+    the sampled frames' darkness on the measured pixels."""
+    norm = Normaliser(tref.reference, contact_is)
+    darkness = [norm(f) for f in samples]
+    sigma = tref.noise.sigma_darkness(tref.reference.image)
+    return area_model(darkness, sigma, contrast=options.contrast,
+                      min_cluster_px=options.min_area_px)
 
 
 def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:

@@ -1,0 +1,484 @@
+"""Contact area as a measurement: two darkness populations, unmixing and an error bar.
+
+Model of a TIR image read as darkness ``D = 1 - I / I_free`` against the free-surface
+estimate (:mod:`tir_contact.flatfield`, :mod:`tir_contact.reference`)::
+
+    D = b + e + c * phi
+
+* ``b``: the free surface's offset, the bias of the estimate (an envelope of a textured
+  surface lies above its mean; a bright percentile of noisy frames above the mean level);
+* ``e``: the free surface's fluctuation, zero mean: the camera's noise (known per pixel from
+  the noise model) and the texture the estimate does not follow, spread ``sigma_texture``,
+  correlated over ``corr_px`` pixels (measured from the variance of block means);
+* ``c``: the darkness of full contact (what is left of the light where rubber touches;
+  stray light and the camera's black level keep it below 1);
+* ``phi``: the share of the pixel in contact, blurred by the optics.
+
+Two populations follow. The **free surface** is measured where contact cannot reach it:
+contact only adds darkness, so the side of the darkness distribution below its median is
+free surface alone; its spread, taken as symmetric about the median, gives the darkness a
+free pixel reaches (``seed`` threshold: the expected number of free pixels of a frame
+above it is :data:`FALSE_SEEDS_PER_FRAME`). **Contact** is either *resolved* (patches wider
+than the blur: their pixels reach ``c`` and a blurred edge is half covered at ``c / 2``) or
+*unresolved* (junctions below a pixel: a pixel reads ``c * phi``). A resolved region is a
+connected region at the half-contact threshold with an interior (a pixel whose 3 x 3
+neighbourhood is all above it); its area is its pixel count. Everything else that is
+significantly dark (a seed pixel and its neighbours) is unmixed: its area is
+``sum(D - b) / c``.
+
+``c`` is measured as the median darkness of the resolved interiors in the sampled frames
+(:data:`MIN_FULL_PX` pixels at least), or given by the user, or, when the video shows no
+resolved contact, assumed: :data:`ASSUMED_FULL_DARKNESS`, the frustrated-TIR contrast of
+rubber on ice or glass (a contact reflects 2-4 % of the light; Fresnel), within
+:data:`ASSUMED_FULL_RANGE` (stray light); the summary says so.
+
+The error bar (:func:`frame_area`): the resolved count over the plausible decisions
+(thresholds from the free surface's reach, at least ``c / 4``, to ``3 c / 4``), and the
+unmixed area over ``c``'s range plus twice its noise: the free surface's fluctuation summed
+over the unmixed pixels (correlated over ``corr_px``) and the uncertainty of ``b``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from scipy.stats import norm
+
+__all__ = [
+    "ASSUMED_FULL_DARKNESS",
+    "ASSUMED_FULL_RANGE",
+    "AreaModel",
+    "FrameArea",
+    "area_model",
+    "frame_area",
+]
+
+#: Darkness of full contact when the video shows no resolved contact: frustrated TIR of
+#: rubber (n about 1.5) on ice (1.31) or glass (1.52) at 60 deg returns 2-4 % of the light.
+ASSUMED_FULL_DARKNESS = 0.97
+#: The range of that assumption: stray light or a black level may take back up to 15 %.
+ASSUMED_FULL_RANGE = (0.85, 1.0)
+#: Resolved interior pixels (over the sampled frames) needed to measure full contact.
+MIN_FULL_PX = 30
+#: Resolved contact darker than the free surface's reach but below half the assumed full
+#: darkness is full contact (seen through stray light) when its interior darkness is a
+#: plateau: the spread from its 10th to its 90th percentile at most this share of its
+#: median (noise and a 0.3-0.4 pressure grading give 0.3-0.5); contact covering part of
+#: each pixel spreads down to the free surface (the physical block at 0.1 mm/px: about 3).
+MAX_PLATEAU_SPREAD = 1.0
+#: Expected free-surface pixels per frame above the seed threshold.
+FALSE_SEEDS_PER_FRAME = 0.05
+#: Side of the blocks whose means give the free surface's correlation area, px.
+CORR_BLOCK_PX = 8
+#: Margin (px) around a resolved region whose pixels belong to its blurred edge.
+EDGE_PX = 2
+#: Standard deviations of the noise terms in the error bar (about 95 %).
+BAND_SIGMAS = 2.0
+
+_CROSS3 = np.ones((3, 3), np.uint8)
+_EDGE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * EDGE_PX + 1,) * 2)
+ZONE_PX = 8
+_ZONE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ZONE_PX + 1,) * 2)
+
+
+@dataclass(frozen=True)
+class AreaModel:
+    """The two darkness populations of one video (:func:`area_model`).
+
+    Attributes
+    ----------
+    offset : float
+        ``b``: median darkness of the free surface.
+    sigma_texture : float
+        Spread of the free surface beyond the camera's noise (texture the free-surface
+        estimate does not follow).
+    sigma_free : float
+        Median spread of a free pixel (texture and noise together).
+    corr_px : float
+        Correlation area of the free surface's fluctuation, px (1: white noise).
+    n_free : int
+        Free-surface pixels the statistics come from.
+    seed : (M, N) ndarray of float32
+        Darkness a free pixel reaches (per pixel: the noise varies with the light); NaN
+        where not measured.
+    seed_median : float
+        Median of `seed` over the measured pixels.
+    contact_darkness, contact_low, contact_high : float
+        ``c`` and its plausible range.
+    contact_source : {"measured", "given", "assumed"}
+    n_full_px : int
+        Resolved interior pixels ``c`` was measured on.
+    threshold : float
+        The half-contact threshold: ``c / 2``, at least the free surface's reach.
+    separation : float
+        ``(c / 2 - b) / (seed_median - b)``: how far the half-contact decision lies beyond
+        the free surface's reach (> 1: the populations separate).
+    notes : list of str
+    """
+
+    offset: float
+    sigma_texture: float
+    sigma_free: float
+    corr_px: float
+    n_free: int
+    seed: np.ndarray = field(repr=False)
+    seed_median: float
+    contact_darkness: float
+    contact_low: float
+    contact_high: float
+    contact_source: str
+    n_full_px: int
+    threshold: float
+    separation: float
+    notes: list[str] = field(default_factory=list)
+    min_cluster_px: int = 4
+
+    def summary(self) -> dict[str, object]:
+        """The populations as ``summary.json`` records them."""
+        r = 6
+        return {
+            "free_surface": {
+                "darkness_offset": round(self.offset, r),
+                "texture_sigma": round(self.sigma_texture, r),
+                "sigma": round(self.sigma_free, r),
+                "correlation_px": round(self.corr_px, 3),
+                "reach": round(self.seed_median, r),
+                "n_pixels": self.n_free,
+            },
+            "contact": {
+                "darkness": round(self.contact_darkness, r),
+                "darkness_range": [round(self.contact_low, r), round(self.contact_high, r)],
+                "source": self.contact_source,
+                "n_resolved_pixels": self.n_full_px,
+            },
+            "threshold": round(self.threshold, r),
+            "separation": round(self.separation, 3) if math.isfinite(self.separation)
+            else None,
+        }
+
+
+def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray
+                     ) -> tuple[float, float, float, int]:
+    """``b``, the texture's spread, the correlation area and the pixel count of the free
+    surface: the measured pixels away from any pixel darker than half of full contact
+    (:data:`EDGE_PX` and the 3 x 3 neighbourhood around it), from the part of their
+    darkness distribution below its median (which contact, only adding darkness, does not
+    reach)."""
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * EDGE_PX + 3,) * 2)
+    parts = []
+    for d in samples:
+        with np.errstate(invalid="ignore"):
+            core = (d > ASSUMED_FULL_DARKNESS / 2).astype(np.uint8)
+        away = ~cv2.dilate(core, kernel).astype(bool) & np.isfinite(d)
+        parts.append(d[away])
+    values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
+    if values.size < 100:
+        return 0.0, 0.0, 1.0, int(values.size)
+    b = float(np.median(values))
+    # the 16th percentile lies one sigma below the median of a normal population
+    spread = max(b - float(np.percentile(values, 100 * norm.cdf(-1.0))), 0.0)
+    noise = float(np.median(sigma_noise[np.isfinite(sigma_noise)])) if np.isfinite(
+        sigma_noise).any() else 0.0
+    texture = math.sqrt(max(spread ** 2 - noise ** 2, 0.0))
+    return b, texture, _correlation_px(samples, b, spread), int(values.size)
+
+
+def _correlation_px(samples: list[np.ndarray], b: float, spread: float) -> float:
+    """Correlation area (px) of the free surface: ``K var(block mean) / var(pixel)`` over
+    blocks of ``K`` = :data:`CORR_BLOCK_PX` squared pixels wholly measured and free (no
+    pixel beyond the free surface's reach, 4 sigma)."""
+    if spread <= 0:
+        return 1.0
+    k = CORR_BLOCK_PX
+    means, pixels = [], []
+    for d in samples[:8]:
+        h, w = (d.shape[0] // k) * k, (d.shape[1] // k) * k
+        if h == 0 or w == 0:
+            continue
+        blocks = d[:h, :w].reshape(h // k, k, w // k, k).swapaxes(1, 2).reshape(-1, k * k)
+        with np.errstate(invalid="ignore"):
+            ok = np.isfinite(blocks).all(axis=1) & (blocks < b + 4 * spread).all(axis=1)
+        if ok.any():
+            means.append(blocks[ok].mean(axis=1))
+            pixels.append(blocks[ok].ravel())
+    if not means or sum(m.size for m in means) < 10:
+        return 1.0
+    m, p = np.concatenate(means), np.concatenate(pixels)
+    var_p = float(p.var())
+    if var_p <= 0:
+        return 1.0
+    return float(np.clip(k * k * float(m.var()) / var_p, 1.0, k * k))
+
+
+def _resolved(mask: np.ndarray) -> np.ndarray:
+    """Pixels of the 8-connected regions of `mask` that have an interior (a pixel whose
+    3 x 3 neighbourhood lies wholly in the mask)."""
+    u8 = mask.view(np.uint8) if mask.dtype == np.bool_ else mask.astype(np.uint8)
+    inner = cv2.erode(u8, _CROSS3, borderType=cv2.BORDER_CONSTANT, borderValue=0)
+    if not inner.any():
+        return np.zeros(mask.shape, bool)
+    n, lab = cv2.connectedComponents(u8, connectivity=8, ltype=cv2.CV_32S)
+    flag = np.zeros(n, bool)
+    flag[lab[inner.astype(bool)]] = True
+    flag[0] = False
+    return flag[lab]
+
+
+def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
+    """Darkness of the pixels whose 3 x 3 neighbourhood all reaches `level`."""
+    full = []
+    for d in samples:
+        with np.errstate(invalid="ignore"):
+            mask = (d >= level).astype(np.uint8)
+        inner = cv2.erode(mask, _CROSS3, borderType=cv2.BORDER_CONSTANT,
+                          borderValue=0).astype(bool)
+        full.append(d[inner])
+    return np.concatenate(full) if full else np.zeros(0, np.float32)
+
+
+def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
+               contrast: float | None = None, min_cluster_px: int = 4) -> AreaModel:
+    """The free-surface and contact populations of a video (module notes).
+
+    Parameters
+    ----------
+    samples : list of (M, N) ndarray
+        Darkness of sampled frames against the free surface, NaN where not measured.
+    sigma_noise : (M, N) ndarray
+        The camera's darkness noise at each pixel
+        (:meth:`tir_contact.reference.NoiseModel.sigma_darkness`).
+    contrast : float, optional
+        Darkness of full contact, when the user knows it.
+    min_cluster_px : int
+        Unresolved contact alone (no resolved contact in the video): clusters of seed
+        pixels smaller than this are free surface (noise, dust).
+
+    Returns
+    -------
+    AreaModel
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> d = rng.normal(0.0, 0.02, (120, 160)).astype(np.float32)
+    >>> d[40:80, 50:110] += 0.8                       # one resolved contact, darkness 0.8
+    >>> m = area_model([d], np.full(d.shape, 0.02, np.float32))
+    >>> m.contact_source, round(m.contact_darkness, 2), round(m.threshold, 2)
+    ('measured', 0.8, 0.4)
+    """
+    sigma_noise = np.asarray(sigma_noise, np.float32)
+    b, texture, corr, n_free = _free_statistics(samples, sigma_noise)
+    n_lit = max(int(np.isfinite(samples[0]).sum()), 1) if samples else 1
+    z = float(norm.isf(FALSE_SEEDS_PER_FRAME / n_lit))
+    with np.errstate(invalid="ignore"):
+        sig = np.sqrt(sigma_noise.astype(np.float64) ** 2 + texture ** 2)
+    seed = (b + z * sig).astype(np.float32)
+    finite = np.isfinite(seed) & np.isfinite(samples[0]) if samples else np.isfinite(seed)
+    seed_median = float(np.median(seed[finite])) if finite.any() else math.nan
+    sigma_free = float(np.median(sig[finite])) if finite.any() else 0.0
+    notes: list[str] = []
+    reach = seed_median if math.isfinite(seed_median) else 0.0
+    n_full = 0
+    if contrast is not None:
+        c, c_lo, c_hi, source = float(contrast), float(contrast), float(contrast), "given"
+    else:
+        values = _interiors(samples, max(ASSUMED_FULL_DARKNESS / 2, reach))
+        if values.size < MIN_FULL_PX and reach < ASSUMED_FULL_DARKNESS / 2:
+            # weaker contact: resolved regions above the free surface's reach whose
+            # darkness is a plateau (full contact seen with stray light), not a spread
+            # reaching down to the free surface (partial contact below the resolution)
+            low = _interiors(samples, reach)
+            if low.size >= MIN_FULL_PX:
+                q10, q50, q90 = np.percentile(low, [10.0, 50.0, 90.0])
+                if q50 > 0 and (q90 - q10) / q50 <= MAX_PLATEAU_SPREAD:
+                    values = low
+        n_full = int(values.size)
+        if n_full >= MIN_FULL_PX:
+            c = float(np.median(values))
+            c_lo, c_hi = (float(v) for v in np.percentile(values, [10.0, 90.0]))
+            source = "measured"
+        else:
+            c = ASSUMED_FULL_DARKNESS
+            c_lo, c_hi = ASSUMED_FULL_RANGE
+            source = "assumed"
+            notes.append(
+                f"no contact in the sampled frames is resolved (wider than 3 px at a plateau "
+                f"of darkness): the contact area is the darkness fraction "
+                f"against an assumed full-contact darkness of {c:g} (range {c_lo:g}-"
+                f"{c_hi:g}); give --contrast with the darkness of full contact of your "
+                "setup if it has stray light")
+    threshold = max(c / 2, reach)
+    separation = ((c / 2 - b) / (reach - b)) if reach > b else math.inf
+    if separation <= 1.0:
+        notes.append(
+            f"contact and free surface do not separate: the free surface's darkness "
+            f"reaches {reach:.3f} (texture {texture:.3f}, offset {b:+.3f}), beyond half the "
+            f"darkness of full contact ({c / 2:.3f}); resolved contact is counted above "
+            f"{threshold:.3f} only, the rest is unmixed and its error bar is wide")
+    return AreaModel(b, texture, sigma_free, corr, n_free, seed, reach, c, c_lo, c_hi, source,
+                     n_full, threshold, separation, notes, int(min_cluster_px))
+
+
+@dataclass(frozen=True)
+class FrameArea:
+    """Contact area of one frame with its error bar, px (:func:`frame_area`).
+
+    Attributes
+    ----------
+    area_px, low_px, high_px : float
+        The area and the range it takes over the plausible decisions.
+    resolved_px : int
+        Pixels of resolved contact (counted).
+    unmixed_px : float
+        Area of unresolved contact (the darkness fraction), px.
+    """
+
+    area_px: float
+    low_px: float
+    high_px: float
+    resolved_px: int
+    unmixed_px: float
+
+
+def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved: np.ndarray,
+                   model: AreaModel) -> np.ndarray:
+    """The seed pixels that are contact: those within :data:`ZONE_PX` of an anchor (resolved
+    contact, or a region above the half-contact threshold of ``min_cluster_px`` pixels at
+    least that the image border cuts, too thin to be resolved only because the view ends
+    there: their unresolved neighbours) and, in a video without resolved contact, the
+    8-connected clusters of seeds whose summed excess darkness is significant against the
+    free surface's fluctuation summed over them (correlated over ``corr_px``) at the seed
+    level's false-alarm rate. The rest (noise, a texture or dust spot) is free surface."""
+    if not seeds.any():
+        return seeds
+    anchors = resolved | _at_border(_clusters(half, model.min_cluster_px))
+    near = (cv2.dilate(anchors.view(np.uint8), _ZONE).astype(bool) & seeds
+            if anchors.any() else np.zeros(seeds.shape, bool))
+    if model.contact_source != "assumed":  # resolved contact shows where contact is
+        return near
+    n, lab = cv2.connectedComponents(seeds.view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    inside = seeds & np.isfinite(d)
+    excess = np.bincount(lab[inside], weights=d[inside] - model.offset, minlength=n)
+    size = np.bincount(lab[inside], minlength=n)
+    noise = model.sigma_free * np.sqrt(np.maximum(size, 1) * model.corr_px)
+    z = (model.seed_median - model.offset) / max(model.sigma_free, 1e-9)
+    keep = (size >= model.min_cluster_px) & (excess > z * noise)
+    keep[0] = False
+    return keep[lab] | near
+
+
+def _at_border(mask: np.ndarray) -> np.ndarray:
+    """The 8-connected regions of `mask` that touch the image border."""
+    if not mask.any():
+        return mask
+    n, lab = cv2.connectedComponents(mask.view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    keep = np.zeros(n, bool)
+    for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
+        keep[edge] = True
+    keep[0] = False
+    return keep[lab]
+
+
+def _clusters(mask: np.ndarray, min_px: int) -> np.ndarray:
+    """The 8-connected regions of `mask` of at least `min_px` pixels."""
+    if min_px <= 1 or not mask.any():
+        return mask
+    _, lab, stats, _ = cv2.connectedComponentsWithStats(mask.view(np.uint8), connectivity=8)
+    keep = stats[:, cv2.CC_STAT_AREA] >= min_px
+    keep[0] = False
+    return keep[lab]
+
+
+def _local_contrast(d: np.ndarray, resolved: np.ndarray, edge: np.ndarray,
+                    c: float) -> np.ndarray:
+    """Full-contact darkness per pixel: the mean darkness of the interior of the resolved
+    region a pixel belongs to (or borders), at least `c`... """
+    out = np.full(d.shape, c, np.float32)
+    if not resolved.any():
+        return out
+    n, lab = cv2.connectedComponents(resolved.view(np.uint8), connectivity=8,
+                                     ltype=cv2.CV_32S)
+    inner = cv2.erode(resolved.view(np.uint8), _CROSS3, borderType=cv2.BORDER_CONSTANT,
+                      borderValue=0).astype(bool) & np.isfinite(d)
+    sums = np.bincount(lab[inner], weights=d[inner], minlength=n)
+    counts = np.bincount(lab[inner], minlength=n)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(counts > 0, sums / np.maximum(counts, 1), c)
+    mean[0] = c
+    grown = cv2.dilate(lab.astype(np.float32), _EDGE).astype(np.int32)
+    local = mean[grown].astype(np.float32)
+    return np.where(edge, local, out)
+
+
+def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None
+               ) -> FrameArea:
+    """Contact area of one frame's darkness `d` (module notes), with its error bar.
+
+    Parameters
+    ----------
+    d : (M, N) ndarray of float32
+        Darkness, NaN where not measured.
+    model : AreaModel
+    box : (slice, slice), optional
+        Only this part of `d` holds contact (the rest is free surface).
+
+    Returns
+    -------
+    FrameArea
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(2)
+    >>> d = rng.normal(0.0, 0.02, (120, 160)).astype(np.float32)
+    >>> d[40:80, 50:110] += 0.8
+    >>> m = area_model([d], np.full(d.shape, 0.02, np.float32))
+    >>> a = frame_area(d, m)
+    >>> a.resolved_px, a.low_px <= 2400 <= a.high_px
+    (2400, True)
+    """
+    if box is not None:
+        d = d[box]
+        seed = model.seed[box]
+    else:
+        seed = model.seed
+    c, b = model.contact_darkness, model.offset
+    with np.errstate(invalid="ignore"):
+        half = d >= model.threshold
+        seeds = d >= seed
+    resolved = _resolved(half)
+    edge = cv2.dilate(resolved.view(np.uint8), _EDGE).astype(bool)
+    seeds = _kept_clusters(d, seeds, half, resolved, model)
+    near = cv2.dilate(seeds.view(np.uint8), _CROSS3).astype(bool)
+    finite = np.isfinite(d)
+    zone_res = edge & finite
+    zone_un = near & ~edge & finite
+    scale = _local_contrast(d, resolved, edge, c)
+    part_res = float(np.sum((d[zone_res] - b) / scale[zone_res], dtype=np.float64))
+    excess_un = float(np.sum(d[zone_un] - b, dtype=np.float64))
+    n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(zone_un))
+    # the resolved part over the plausible decisions: counted at any threshold between the
+    # free surface's reach (at least c / 4) and 3 c / 4, or unmixed
+    t_lo = max(model.seed_median, c / 4) if math.isfinite(model.seed_median) else c / 4
+    t_lo = min(t_lo, model.threshold)
+    t_hi = max(0.75 * c, model.threshold)
+    with np.errstate(invalid="ignore"):
+        res_hi = int(np.count_nonzero(zone_res & (d >= t_lo)))
+        res_lo = int(np.count_nonzero(resolved & (d >= t_hi)))
+    # the unresolved part over c's range; both parts' noise: the free surface's fluctuation
+    # summed over the zone (correlated over corr_px) and the uncertainty of b
+    sd = 0.0
+    if n_z:
+        sd_sum = model.sigma_free * math.sqrt(n_z * model.corr_px)
+        sd_b = n_z * model.sigma_free * math.sqrt(model.corr_px / max(model.n_free, 1))
+        sd = math.hypot(sd_sum, sd_b) / c
+    area = part_res + excess_un / c
+    low = (min(part_res, res_lo) + excess_un / max(model.contact_high, 1e-6)
+           - BAND_SIGMAS * sd)
+    high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6)
+            + BAND_SIGMAS * sd)
+    low, high = max(min(low, area), 0.0), max(high, area)
+    n_res = int(np.count_nonzero(resolved))
+    return FrameArea(float(area), float(low), float(high), n_res, float(excess_un / c))
