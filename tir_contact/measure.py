@@ -73,12 +73,15 @@ MAX_PLATEAU_SPREAD = 1.0
 FALSE_SEEDS_PER_FRAME = 0.05
 #: Side of the blocks whose means give the free surface's correlation area, px.
 CORR_BLOCK_PX = 8
+#: Interior pixels a resolved region needs to be unmixed against its own darkness.
+MIN_LOCAL_PX = 9
 #: Margin (px) around a resolved region whose pixels belong to its blurred edge.
 EDGE_PX = 2
 #: Standard deviations of the noise terms in the error bar (about 95 %).
 BAND_SIGMAS = 2.0
 
 _CROSS3 = np.ones((3, 3), np.uint8)
+_DEEP = np.ones((5, 5), np.uint8)
 _EDGE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * EDGE_PX + 1,) * 2)
 ZONE_PX = 8
 _ZONE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ZONE_PX + 1,) * 2)
@@ -101,6 +104,9 @@ class AreaModel:
         Correlation area of the free surface's fluctuation, px (1: white noise).
     n_free : int
         Free-surface pixels the statistics come from.
+    mean_free, sd_free : float
+        Mean and standard deviation of their darkness (dust, bubbles and scratches
+        included, which the median and the spread below it leave out).
     seed : (M, N) ndarray of float32
         Darkness a free pixel reaches (per pixel: the noise varies with the light); NaN
         where not measured.
@@ -117,6 +123,10 @@ class AreaModel:
         ``(c / 2 - b) / (seed_median - b)``: how far the half-contact decision lies beyond
         the free surface's reach (> 1: the populations separate).
     notes : list of str
+    min_cluster_px : int
+        See :func:`area_model`.
+    zone : (M, N) ndarray of bool or None
+        See :func:`area_model`.
     """
 
     offset: float
@@ -124,6 +134,8 @@ class AreaModel:
     sigma_free: float
     corr_px: float
     n_free: int
+    mean_free: float
+    sd_free: float
     seed: np.ndarray = field(repr=False)
     seed_median: float
     contact_darkness: float
@@ -135,6 +147,7 @@ class AreaModel:
     separation: float
     notes: list[str] = field(default_factory=list)
     min_cluster_px: int = 4
+    zone: np.ndarray | None = field(default=None, repr=False)
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -161,7 +174,7 @@ class AreaModel:
 
 
 def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray
-                     ) -> tuple[float, float, float, int]:
+                     ) -> tuple[float, float, float, int, float, float]:
     """``b``, the texture's spread, the correlation area and the pixel count of the free
     surface: the measured pixels away from any pixel darker than half of full contact
     (:data:`EDGE_PX` and the 3 x 3 neighbourhood around it), from the part of their
@@ -176,14 +189,15 @@ def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray
         parts.append(d[away])
     values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
     if values.size < 100:
-        return 0.0, 0.0, 1.0, int(values.size)
+        return 0.0, 0.0, 1.0, int(values.size), 0.0, 0.0
     b = float(np.median(values))
     # the 16th percentile lies one sigma below the median of a normal population
     spread = max(b - float(np.percentile(values, 100 * norm.cdf(-1.0))), 0.0)
     noise = float(np.median(sigma_noise[np.isfinite(sigma_noise)])) if np.isfinite(
         sigma_noise).any() else 0.0
     texture = math.sqrt(max(spread ** 2 - noise ** 2, 0.0))
-    return b, texture, _correlation_px(samples, b, spread), int(values.size)
+    return (b, texture, _correlation_px(samples, b, spread), int(values.size),
+            float(np.mean(values, dtype=np.float64)), float(np.std(values, dtype=np.float64)))
 
 
 def _correlation_px(samples: list[np.ndarray], b: float, spread: float) -> float:
@@ -228,7 +242,8 @@ def _resolved(mask: np.ndarray) -> np.ndarray:
 
 
 def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
-    """Darkness of the pixels whose 3 x 3 neighbourhood all reaches `level`."""
+    """Darkness of the pixels at least 2 px deep inside the regions above `level` (their
+    5 x 5 neighbourhood all reaches it: a blur of up to a pixel has left them)."""
     full = []
     for d in samples:
         with np.errstate(invalid="ignore"):
@@ -240,7 +255,8 @@ def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
 
 
 def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
-               contrast: float | None = None, min_cluster_px: int = 4) -> AreaModel:
+               contrast: float | None = None, min_cluster_px: int = 4,
+               zone: np.ndarray | None = None) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -255,6 +271,10 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     min_cluster_px : int
         Unresolved contact alone (no resolved contact in the video): clusters of seed
         pixels smaller than this are free surface (noise, dust).
+    zone : (M, N) ndarray of bool, optional
+        A static scene's contact zone, where the free surface was continued from around it
+        (:attr:`tir_contact.reference.FreeSurface.zone`): all of it is unmixed, and the
+        free surface's statistics come from outside it.
 
     Returns
     -------
@@ -270,7 +290,12 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     ('measured', 0.8, 0.4)
     """
     sigma_noise = np.asarray(sigma_noise, np.float32)
-    b, texture, corr, n_free = _free_statistics(samples, sigma_noise)
+    free = samples
+    if zone is not None:
+        zone = np.asarray(zone, bool)
+        if zone.any():
+            free = [np.where(zone, np.float32(np.nan), d) for d in samples]
+    b, texture, corr, n_free, mean, sd_all = _free_statistics(free, sigma_noise)
     n_lit = max(int(np.isfinite(samples[0]).sum()), 1) if samples else 1
     z = float(norm.isf(FALSE_SEEDS_PER_FRAME / n_lit))
     with np.errstate(invalid="ignore"):
@@ -318,8 +343,9 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
             f"reaches {reach:.3f} (texture {texture:.3f}, offset {b:+.3f}), beyond half the "
             f"darkness of full contact ({c / 2:.3f}); resolved contact is counted above "
             f"{threshold:.3f} only, the rest is unmixed and its error bar is wide")
-    return AreaModel(b, texture, sigma_free, corr, n_free, seed, reach, c, c_lo, c_hi, source,
-                     n_full, threshold, separation, notes, int(min_cluster_px))
+    return AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c, c_lo,
+                     c_hi, source,
+                     n_full, threshold, separation, notes, int(min_cluster_px), zone)
 
 
 @dataclass(frozen=True)
@@ -406,11 +432,27 @@ def _local_contrast(d: np.ndarray, resolved: np.ndarray, edge: np.ndarray,
     sums = np.bincount(lab[inner], weights=d[inner], minlength=n)
     counts = np.bincount(lab[inner], minlength=n)
     with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.where(counts > 0, sums / np.maximum(counts, 1), c)
+        # a small interior is dimmed by the blur of its edges: the video's c there
+        mean = np.where(counts >= MIN_LOCAL_PX, sums / np.maximum(counts, 1), c)
     mean[0] = c
     grown = cv2.dilate(lab.astype(np.float32), _EDGE).astype(np.int32)
     local = mean[grown].astype(np.float32)
     return np.where(edge, local, out)
+
+
+def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float, float]:
+    """The frame's darkness budget: the excess darkness of every measured pixel over the
+    free surface's mean (its dust and texture included), as contact area (px), and its
+    standard deviation (the free surface's whole fluctuation summed over the frame,
+    correlated over ``corr_px``, and the uncertainty of the mean)."""
+    n = int(np.count_nonzero(finite))
+    if n == 0:
+        return 0.0, 0.0
+    c = model.contact_darkness
+    total = float(np.sum(d[finite] - model.mean_free, dtype=np.float64)) / c
+    sd_sum = model.sd_free * math.sqrt(n * model.corr_px)
+    sd_b = n * model.sd_free * math.sqrt(model.corr_px / max(model.n_free, 1))
+    return total, math.hypot(sd_sum, sd_b) / c
 
 
 def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None
@@ -451,10 +493,17 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     resolved = _resolved(half)
     edge = cv2.dilate(resolved.view(np.uint8), _EDGE).astype(bool)
     seeds = _kept_clusters(d, seeds, half, resolved, model)
-    near = cv2.dilate(seeds.view(np.uint8), _CROSS3).astype(bool)
+    # the unresolved contact's envelope: its seeds, their neighbours and the gaps between
+    # them narrower than the edge margin (every pixel in it unmixed, faint ones included)
+    near = cv2.morphologyEx(cv2.dilate(seeds.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
+                            _EDGE).astype(bool)
     finite = np.isfinite(d)
     zone_res = edge & finite
     zone_un = near & ~edge & finite
+    # faint contact beyond the zone: the excess darkness of a ring around it
+    zone = zone_res | zone_un
+    ring = cv2.dilate(zone.view(np.uint8), _EDGE).astype(bool) & ~zone & finite
+    missed = max(float(np.sum(d[ring] - b, dtype=np.float64)), 0.0) / c
     scale = _local_contrast(d, resolved, edge, c)
     part_res = float(np.sum((d[zone_res] - b) / scale[zone_res], dtype=np.float64))
     excess_un = float(np.sum(d[zone_un] - b, dtype=np.float64))
@@ -477,8 +526,16 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     area = part_res + excess_un / c
     low = (min(part_res, res_lo) + excess_un / max(model.contact_high, 1e-6)
            - BAND_SIGMAS * sd)
-    high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6)
+    high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
+    if box is None:  # the whole frame: its darkness budget (module notes)
+        budget, sd_g = _budget(d, finite, model)
+        # where the free surface reaches past half of full contact, the seeds cannot see
+        # faint contact: the budget is the estimate when it holds clearly more
+        if model.separation <= 1.0 and budget - area > BAND_SIGMAS * sd_g:
+            area = budget
+            low = min(low, budget - BAND_SIGMAS * sd_g)
+        high = max(high, budget + BAND_SIGMAS * sd_g)
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))
     return FrameArea(float(area), float(low), float(high), n_res, float(excess_un / c))

@@ -44,7 +44,6 @@ import numpy as np
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
-from tir_contact.measure import ASSUMED_FULL_DARKNESS
 
 __all__ = [
     "CAMERA_MODES",
@@ -86,36 +85,6 @@ class FreeSurface:
     candidates: np.ndarray
     size_px: int
     widest_px: float
-
-
-#: Darkness against the closing that a contact candidate must reach somewhere: half the
-#: darkness of full contact (:data:`tir_contact.measure.ASSUMED_FULL_DARKNESS`). The free
-#: surface's own structures (texture, bubbles, scratches, a fold or fall-off of the light)
-#: take less than that; where they stay free surface, the estimate follows them.
-CORE_DARKNESS = ASSUMED_FULL_DARKNESS / 2
-
-
-def _with_core(d: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """The pixels of `mask` (uint8 result) within :data:`MARGIN_PX` of a core, a pixel
-    darker than :data:`CORE_DARKNESS` (a contact's blurred edge; not the texture or the
-    light field around it, which a connected region would reach through)."""
-    core = (mask & (d > CORE_DARKNESS)).astype(np.uint8)
-    if not core.any():
-        return np.zeros(mask.shape, np.uint8)
-    near = cv2.dilate(core, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
-                                                      (2 * MARGIN_PX + 1,) * 2))
-    return (near.astype(bool) & mask).astype(np.uint8)
-
-
-#: Disc (px) of the closing that gives the free surface away from the contact candidates:
-#: dark spots narrower than this are contact seen below the resolution, not light field.
-FINE_CLOSING_PX = 5
-
-
-def _closing_full(smooth: np.ndarray, size_px: int) -> np.ndarray:
-    """Grey closing with a small disc at full resolution."""
-    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size_px, size_px))
-    return cv2.morphologyEx(smooth, cv2.MORPH_CLOSE, disc, borderType=cv2.BORDER_REPLICATE)
 
 
 def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
@@ -225,17 +194,9 @@ def free_surface(
         if trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size:
             break
         size, (closed, cand, widest) = wider, trial
-    # the free surface goes round the candidates that reach the core darkness only (texture,
-    # dust or a fold of the light that merged into a candidate stay free surface)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d_final = np.where(closed > 0, 1.0 - smooth / np.maximum(closed, 1e-6), 0.0)
-    cand = _fill_holes(_with_core(d_final, cand)).astype(bool)
     margin = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
         cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
-    # away from the candidates: the light field at the contacts' scale (a closing just
-    # wider than a junction below the core darkness), which follows texture and fall-off
-    fine = _closing_full(smooth, FINE_CLOSING_PX)
-    surface = np.where(margin, closed, fine).astype(np.float32)
+    surface = np.where(margin, closed, smooth).astype(np.float32)
     near = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
         cv2.MORPH_ELLIPSE, (2 * RING_GAP_PX + 1,) * 2)).astype(bool)
     _fit_over_contacts(surface, smooth, margin, near, lit_mask, widest)
