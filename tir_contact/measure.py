@@ -125,7 +125,7 @@ class AreaModel:
     notes : list of str
     min_cluster_px : int
         See :func:`area_model`.
-    zone : (M, N) ndarray of bool or None
+    static : bool
         See :func:`area_model`.
     """
 
@@ -147,7 +147,7 @@ class AreaModel:
     separation: float
     notes: list[str] = field(default_factory=list)
     min_cluster_px: int = 4
-    zone: np.ndarray | None = field(default=None, repr=False)
+    static: bool = False
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -173,18 +173,19 @@ class AreaModel:
         }
 
 
-def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray
+def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
+                     level: float = ASSUMED_FULL_DARKNESS / 2
                      ) -> tuple[float, float, float, int, float, float]:
-    """``b``, the texture's spread, the correlation area and the pixel count of the free
-    surface: the measured pixels away from any pixel darker than half of full contact
-    (:data:`EDGE_PX` and the 3 x 3 neighbourhood around it), from the part of their
-    darkness distribution below its median (which contact, only adding darkness, does not
-    reach)."""
+    """``b``, the texture's spread, the correlation area, the pixel count, the mean and the
+    standard deviation of the free surface: the measured pixels away from any pixel darker
+    than `level` (:data:`EDGE_PX` and the 3 x 3 neighbourhood around it), the spread from
+    the part of their darkness distribution below its median (which contact, only adding
+    darkness, does not reach)."""
     kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * EDGE_PX + 3,) * 2)
     parts = []
     for d in samples:
         with np.errstate(invalid="ignore"):
-            core = (d > ASSUMED_FULL_DARKNESS / 2).astype(np.uint8)
+            core = (d > level).astype(np.uint8)
         away = ~cv2.dilate(core, kernel).astype(bool) & np.isfinite(d)
         parts.append(d[away])
     values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
@@ -256,7 +257,7 @@ def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
 
 def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                contrast: float | None = None, min_cluster_px: int = 4,
-               zone: np.ndarray | None = None) -> AreaModel:
+               static: bool = False) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -271,10 +272,11 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     min_cluster_px : int
         Unresolved contact alone (no resolved contact in the video): clusters of seed
         pixels smaller than this are free surface (noise, dust).
-    zone : (M, N) ndarray of bool, optional
-        A static scene's contact zone, where the free surface was continued from around it
-        (:attr:`tir_contact.reference.FreeSurface.zone`): all of it is unmixed, and the
-        free surface's statistics come from outside it.
+    static : bool
+        The free surface was estimated from images that show the contact (a static scene,
+        a camera that follows the block): dust, bubbles and scratches are then dark in it,
+        and clusters of seeds far from resolved contact are taken for them when the video
+        shows resolved contact at all.
 
     Returns
     -------
@@ -290,12 +292,16 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     ('measured', 0.8, 0.4)
     """
     sigma_noise = np.asarray(sigma_noise, np.float32)
-    free = samples
-    if zone is not None:
-        zone = np.asarray(zone, bool)
-        if zone.any():
-            free = [np.where(zone, np.float32(np.nan), d) for d in samples]
-    b, texture, corr, n_free, mean, sd_all = _free_statistics(free, sigma_noise)
+    # twice: away from half of full contact, then away from the first pass's reach too
+    # (contact too faint for a core shifts the median otherwise)
+    b, texture, corr, n_free, mean, sd_all = _free_statistics(samples, sigma_noise)
+    first = b + float(norm.isf(FALSE_SEEDS_PER_FRAME / max(
+        int(np.isfinite(samples[0]).sum()), 1))) * math.hypot(
+        texture, float(np.nanmedian(sigma_noise)) if np.isfinite(sigma_noise).any() else 0.0)
+    if math.isfinite(first) and first < ASSUMED_FULL_DARKNESS / 2:
+        # the mean and the spread of the whole free surface (dust and bubbles included,
+        # which the second pass would cut away with faint contact) stay the first pass's
+        b, texture, corr, n_free, _, _ = _free_statistics(samples, sigma_noise, first)
     n_lit = max(int(np.isfinite(samples[0]).sum()), 1) if samples else 1
     z = float(norm.isf(FALSE_SEEDS_PER_FRAME / n_lit))
     with np.errstate(invalid="ignore"):
@@ -345,7 +351,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
             f"{threshold:.3f} only, the rest is unmixed and its error bar is wide")
     return AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c, c_lo,
                      c_hi, source,
-                     n_full, threshold, separation, notes, int(min_cluster_px), zone)
+                     n_full, threshold, separation, notes, int(min_cluster_px), bool(static))
 
 
 @dataclass(frozen=True)
@@ -377,14 +383,16 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     there: their unresolved neighbours) and, in a video without resolved contact, the
     8-connected clusters of seeds whose summed excess darkness is significant against the
     free surface's fluctuation summed over them (correlated over ``corr_px``) at the seed
-    level's false-alarm rate. The rest (noise, a texture or dust spot) is free surface."""
+    level's false-alarm rate, unless the scene is static and shows resolved contact (its
+    free surface keeps the dust dark, which resolved contact tells apart). The rest (noise,
+    a texture or dust spot) is free surface."""
     if not seeds.any():
         return seeds
     anchors = resolved | _at_border(_clusters(half, model.min_cluster_px))
     near = (cv2.dilate(anchors.view(np.uint8), _ZONE).astype(bool) & seeds
             if anchors.any() else np.zeros(seeds.shape, bool))
-    if model.contact_source != "assumed":  # resolved contact shows where contact is
-        return near
+    if model.static and model.contact_source != "assumed":  # dust is dark here: resolved
+        return near                                      # contact shows where contact is
     n, lab = cv2.connectedComponents(seeds.view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
     inside = seeds & np.isfinite(d)
     excess = np.bincount(lab[inside], weights=d[inside] - model.offset, minlength=n)
@@ -418,26 +426,32 @@ def _clusters(mask: np.ndarray, min_px: int) -> np.ndarray:
     return keep[lab]
 
 
-def _local_contrast(d: np.ndarray, resolved: np.ndarray, edge: np.ndarray,
-                    c: float) -> np.ndarray:
-    """Full-contact darkness per pixel: the mean darkness of the interior of the resolved
-    region a pixel belongs to (or borders), at least `c`... """
-    out = np.full(d.shape, c, np.float32)
-    if not resolved.any():
-        return out
-    n, lab = cv2.connectedComponents(resolved.view(np.uint8), connectivity=8,
-                                     ltype=cv2.CV_32S)
-    inner = cv2.erode(resolved.view(np.uint8), _CROSS3, borderType=cv2.BORDER_CONSTANT,
-                      borderValue=0).astype(bool) & np.isfinite(d)
-    sums = np.bincount(lab[inner], weights=d[inner], minlength=n)
-    counts = np.bincount(lab[inner], minlength=n)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        # a small interior is dimmed by the blur of its edges: the video's c there
-        mean = np.where(counts >= MIN_LOCAL_PX, sums / np.maximum(counts, 1), c)
-    mean[0] = c
-    grown = cv2.dilate(lab.astype(np.float32), _EDGE).astype(np.int32)
-    local = mean[grown].astype(np.float32)
-    return np.where(edge, local, out)
+def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b: float,
+                   c: float) -> float:
+    """Area (px) of resolved contact: its deep interior (pixels :data:`EDGE_PX` or more
+    inside a resolved region) counted, every pixel one (a contact's darkness may vary
+    inside it, as with pressure), and its edge band (`zone_res` less the deep interior)
+    unmixed against the darkness of its region's deep interior (where the blur has left
+    the full darkness), or against `c` for a region without :data:`MIN_LOCAL_PX` deep
+    pixels."""
+    deep = cv2.erode(resolved.view(np.uint8), _EDGE, borderType=cv2.BORDER_CONSTANT,
+                     borderValue=0).astype(bool) & np.isfinite(d)
+    band = zone_res & ~deep
+    n_deep = int(np.count_nonzero(deep))
+    scale = np.full(d.shape, c, np.float32)
+    if n_deep:
+        n, lab = cv2.connectedComponents(resolved.view(np.uint8), connectivity=8,
+                                         ltype=cv2.CV_32S)
+        sums = np.bincount(lab[deep], weights=d[deep], minlength=n)
+        counts = np.bincount(lab[deep], minlength=n)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            full = np.where(counts >= MIN_LOCAL_PX, sums / np.maximum(counts, 1), c)
+        full[0] = c
+        grown = cv2.dilate(lab.astype(np.float32), _EDGE).astype(np.int32)
+        scale = np.maximum(full[grown] - b, 1e-3).astype(np.float32)
+    else:
+        scale[:] = max(c - b, 1e-3)
+    return n_deep + float(np.sum((d[band] - b) / scale[band], dtype=np.float64))
 
 
 def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float, float]:
@@ -504,8 +518,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     zone = zone_res | zone_un
     ring = cv2.dilate(zone.view(np.uint8), _EDGE).astype(bool) & ~zone & finite
     missed = max(float(np.sum(d[ring] - b, dtype=np.float64)), 0.0) / c
-    scale = _local_contrast(d, resolved, edge, c)
-    part_res = float(np.sum((d[zone_res] - b) / scale[zone_res], dtype=np.float64))
+    part_res = _resolved_area(d, resolved, zone_res, b, c)
     excess_un = float(np.sum(d[zone_un] - b, dtype=np.float64))
     n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(zone_un))
     # the resolved part over the plausible decisions: counted at any threshold between the

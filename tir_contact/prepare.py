@@ -451,7 +451,8 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     darkness = [norm(f) for f in samples]
     sigma = tref.noise.sigma_darkness(tref.reference.image)
     return area_model(darkness, sigma, contrast=options.contrast,
-                      min_cluster_px=options.min_area_px)
+                      min_cluster_px=options.min_area_px,
+                      static=tref.camera == "follows")
 
 
 def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:

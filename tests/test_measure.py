@@ -1,0 +1,193 @@
+"""Contact area as a measurement (:mod:`tir_contact.measure`) against truths made here.
+
+Each image is built in the test from a stated model (supersampled discs block-averaged to
+pixels, Gaussian noise, a Gaussian-filtered noise field), not by the renderer or the
+pipeline, so the truth is exact: the covered area, the noise's spread, the field's
+correlation area.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+import pytest
+
+from tir_contact.measure import (
+    ASSUMED_FULL_DARKNESS,
+    area_model,
+    frame_area,
+)
+
+SHAPE = (160, 200)
+
+
+def _noise(rng: np.random.Generator, sigma: float, shape=SHAPE) -> np.ndarray:
+    return rng.normal(0.0, sigma, shape).astype(np.float32)
+
+
+def _sigma_map(sigma: float, shape=SHAPE) -> np.ndarray:
+    return np.full(shape, sigma, np.float32)
+
+
+def _coverage(shape, discs, ss: int = 8) -> np.ndarray:
+    """Covered fraction of each pixel by discs (cx, cy, r in px), supersampled ss x ss."""
+    h, w = shape
+    yy, xx = np.mgrid[0:h * ss, 0:w * ss]
+    xx = (xx + 0.5) / ss
+    yy = (yy + 0.5) / ss
+    inside = np.zeros((h * ss, w * ss), bool)
+    for cx, cy, r in discs:
+        inside |= (xx - cx) ** 2 + (yy - cy) ** 2 < r * r
+    return inside.reshape(h, ss, w, ss).mean(axis=(1, 3))
+
+
+def test_free_surface_offset_spread_and_noise_only():
+    """Gaussian noise of sigma 0.02 around an offset of 0.01: the offset, no texture, and
+    the seed level (the noise's reach at 0.05 false pixels per frame) as the normal law
+    gives it."""
+    rng = np.random.default_rng(3)
+    d = [_noise(rng, 0.02) + 0.01 for _ in range(3)]
+    m = area_model(d, _sigma_map(0.02))
+    assert m.offset == pytest.approx(0.01, abs=0.001)  # 96 000 values: 1e-4 standard error
+    assert m.sigma_texture < 0.005  # the spread is the noise the noise map holds
+    # z for 0.05 false pixels in 32 000: 4.67 (normal law), times sigma 0.02, plus offset
+    assert m.seed_median == pytest.approx(0.01 + 4.67 * 0.02, abs=0.003)
+    assert m.contact_source == "assumed"
+
+
+def test_texture_beyond_the_noise_and_its_correlation_area():
+    """A texture field: white noise filtered by a Gaussian of 1.5 px, scaled to sigma 0.05;
+    its correlation area (the integral of its autocorrelation) is 4 pi 1.5^2 = 28 px."""
+    rng = np.random.default_rng(4)
+    fields = []
+    for _ in range(4):
+        f = cv2.GaussianBlur(rng.normal(size=(320, 400)).astype(np.float32), (0, 0), 1.5)
+        fields.append((0.05 * f / f.std()).astype(np.float32))
+    m = area_model(fields, _sigma_map(0.0, (320, 400)))
+    assert m.sigma_texture == pytest.approx(0.05, rel=0.05)
+    # blocks of 8 px hold the correlation area 28 px with a finite-block loss of about 30 %
+    # (the autocorrelation's tail beyond the block): 15-30 px
+    assert 15.0 <= m.corr_px <= 30.0
+
+
+def test_resolved_contact_gives_its_darkness_and_half_of_it_as_threshold():
+    rng = np.random.default_rng(5)
+    d = _noise(rng, 0.02)
+    d[40:100, 50:150] += 0.8
+    m = area_model([d], _sigma_map(0.02))
+    assert m.contact_source == "measured"
+    assert m.contact_darkness == pytest.approx(0.8, abs=0.005)
+    assert m.threshold == pytest.approx(0.4, abs=0.003)
+    assert m.separation > 1.0 and not m.notes
+
+
+def test_blurred_disc_area_is_its_geometric_area():
+    """A disc of radius 20 px, darkness 0.8, Gaussian blur 1.5 px, noise 0.02: the area is
+    pi r^2 (1257 px) to 1 % (the noise summed over the edge band: about 4 px), inside the
+    bar."""
+    rng = np.random.default_rng(6)
+    cov = _coverage(SHAPE, [(100.0, 80.0, 20.0)])
+    d = (0.8 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 1.5) + _noise(rng, 0.02))
+    m = area_model([d], _sigma_map(0.02))
+    a = frame_area(d, m)
+    true = float(cov.sum())
+    assert a.area_px == pytest.approx(true, rel=0.01)
+    assert a.low_px <= true <= a.high_px
+
+
+def test_contacts_below_a_pixel_are_measured_by_their_darkness():
+    """60 discs of radius 0.25-0.6 px (each covers at most a pixel's area), darkness 0.95,
+    blur 0.7 px, noise 0.01, beside one resolved contact that shows the full darkness: the
+    area is their covered area to 5 % (the noise summed over the unmixed pixels), where a
+    pixel count at half darkness is off by far more."""
+    rng = np.random.default_rng(7)
+    small = [(rng.uniform(20, 180), rng.uniform(20, 140), rng.uniform(0.25, 0.6))
+             for _ in range(60)]
+    discs = [*small, (30.0, 30.0, 8.0)]
+    cov = _coverage(SHAPE, discs)
+    d = (0.95 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 0.7) + _noise(rng, 0.01))
+    m = area_model([d], _sigma_map(0.01))
+    assert m.contact_source == "measured"
+    a = frame_area(d, m)
+    true = float(cov.sum())
+    assert a.area_px == pytest.approx(true, rel=0.05)
+    assert a.low_px <= true <= a.high_px
+    counted = int((d >= m.threshold).sum())
+    assert abs(counted / true - 1) > 0.1  # what a pixel count says: 13 % off
+
+
+def test_weak_flat_contact_is_full_contact_and_a_partial_spread_is_not():
+    """A resolved contact of darkness 0.3 (full contact through stray light: a plateau)
+    is measured as the darkness of full contact; a region whose darkness spreads from 0 to
+    0.4 (contact covering part of each pixel) is not, and the darkness of full contact is
+    then assumed."""
+    rng = np.random.default_rng(8)
+    flat = _noise(rng, 0.02)
+    flat[40:100, 50:150] += 0.3
+    m = area_model([flat], _sigma_map(0.02))
+    assert m.contact_source == "measured"
+    assert m.contact_darkness == pytest.approx(0.3, abs=0.01)
+    spread = _noise(rng, 0.02)
+    spread[40:100, 50:150] += rng.uniform(0.0, 0.4, (60, 100)).astype(np.float32)
+    m2 = area_model([spread], _sigma_map(0.02))
+    assert m2.contact_source == "assumed"
+    assert m2.contact_darkness == ASSUMED_FULL_DARKNESS
+    assert any("assumed full-contact darkness" in n for n in m2.notes)
+    # the partial region, unmixed against the assumed darkness: mean 0.2 over 6000 px is
+    # 1237 px of contact at 0.97; the bar spans the assumption's range (0.85-1)
+    a = frame_area(spread, m2)
+    true = float(np.sum(spread[40:100, 50:150])) / 0.97
+    assert a.area_px == pytest.approx(true, rel=0.01)  # the noise summed: 0.3 %
+    # the bar spans the assumption: from darkness 1 to darkness 0.85
+    assert a.low_px <= 0.97 * true + 5 and a.high_px >= 0.97 * true / 0.85 - 5
+
+
+def test_noise_alone_is_no_contact():
+    rng = np.random.default_rng(9)
+    d = [_noise(rng, 0.03) for _ in range(3)]
+    m = area_model(d, _sigma_map(0.03))
+    for f in d:
+        a = frame_area(f, m)
+        assert a.area_px == pytest.approx(0.0, abs=1.0)
+        assert a.low_px == 0.0
+
+
+def test_texture_past_half_contact_is_said_and_the_budget_holds_the_area():
+    """A strong texture (sigma 0.15, correlated over 3 px) reaches past half of full
+    contact: the note says the populations do not separate, and the area comes from the
+    frame's darkness budget, whose bar holds the truth."""
+    rng = np.random.default_rng(10)
+    shape = (240, 240)
+
+    def texture():
+        f = cv2.GaussianBlur(rng.normal(size=shape).astype(np.float32), (0, 0), 3.0)
+        return (0.15 * f / f.std()).astype(np.float32)
+
+    samples = [texture() for _ in range(3)]
+    discs = [(rng.uniform(60, 180), rng.uniform(60, 180), rng.uniform(0.3, 0.6))
+             for _ in range(300)]
+    cov = _coverage(shape, discs, ss=4)
+    frame = texture() + 0.97 * cov.astype(np.float32)
+    m = area_model(samples, _sigma_map(0.0, shape))
+    assert m.separation <= 1.0
+    assert any("do not separate" in n for n in m.notes)
+    a = frame_area(frame, m)
+    true = float(cov.sum())
+    assert a.low_px <= true <= a.high_px
+    # the budget's standard deviation: 0.15 sqrt(57600 x 113) / 0.97 = 395 px, against a
+    # true area of about 250 px: the bar is wide, and says so
+    assert a.high_px - a.low_px > true
+
+
+def test_box_limits_the_search():
+    rng = np.random.default_rng(11)
+    d = _noise(rng, 0.02)
+    d[40:100, 50:150] += 0.8
+    m = area_model([d], _sigma_map(0.02))
+    whole = frame_area(d, m)
+    boxed = frame_area(d, m, (slice(30, 110), slice(40, 160)))
+    assert boxed.resolved_px == whole.resolved_px
+    assert boxed.area_px == pytest.approx(whole.area_px, rel=0.002)
+    assert math.isfinite(boxed.high_px)
