@@ -1,26 +1,31 @@
-"""The fast per-frame path of the TIR analysis against its plain definitions.
+"""The one per-frame path of the TIR analysis against its plain definitions.
 
 Truths: ``np.percentile`` for the sorting-network reference, the float32 darkness of the
 normaliser for the raw grey-value threshold (pixel for pixel) and for the box darkness (bit
 for bit), scikit-image's labelling and small-object removal for the region labelling, numpy
-sums for the box and line counts, the plain numpy scoring for the template fit, and the plain
-full-frame path of ``analyze_video`` for the whole analysis (the fast path must give the
-same tables).
+sums for the box and line counts, the plain numpy scoring for the template fit, and, for
+the whole step on a rendered clip, a direct float64 numpy darkness ``1 - I / I_ref``,
+threshold and scipy labelling of every frame.
 """
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
-import pandas as pd
 import pytest
+import tifffile
+from scipy import ndimage
 from skimage.measure import label
 
-import tir_contact.frame as frame_module
 from tir_contact._darkness import BoxDarkness, Normaliser, RawContactTest
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.features import _fit_offset
 from tir_contact.flatfield import Reference, darkness
+from tir_contact.frame import FrameAnalyser
+from tir_contact.io import open_footage
+from tir_contact.prepare import prepare_video
 from tir_contact.segment import (
     _box_and_counts,
     _may_hold_small,
@@ -122,18 +127,68 @@ def clip(render_clip, tmp_path_factory):
     return render_clip(tmp_path_factory.mktemp("fast") / "G3", "multitiff", n_frames=120)
 
 
-@pytest.mark.parametrize("regions", ["auto", "always"])
-def test_fast_path_gives_the_plain_paths_tables(clip, monkeypatch, regions):
+#: A pixel whose float64 darkness lies this close to the threshold may fall either side of
+#: it in the pipeline's float32 arithmetic (a few ulp of values below 2: 1e-6 is ample).
+_AMBIGUOUS = 1e-5
+
+
+@pytest.mark.parametrize("as_float", [False, True])
+def test_one_path_is_a_direct_numpy_darkness_threshold_and_labelling(clip, as_float):
+    # every frame through the pipeline's own step (integer frames: the raw grey-value test;
+    # float frames: the darkness test) against the definitions written out in float64
     options = AnalysisOptions(overlay_video=False, plots=False, overlay_frames=0,
-                              regions=regions)
-    fast = analyze_video(clip, options=options)
-    monkeypatch.setattr(frame_module.FrameAnalyser, "_raw_test", lambda self, frame: None)
-    plain = analyze_video(clip, options=options)
-    assert fast.frames["block_in_view"].any()
-    pd.testing.assert_frame_equal(fast.frames, plain.frames)
-    pd.testing.assert_frame_equal(fast.elements, plain.elements)
-    if regions == "always":
-        pd.testing.assert_frame_equal(fast.regions, plain.regions)
+                              regions="always")
+    with open_footage(clip / "footage.tif") as reader:
+        setup = prepare_video(reader, clip / "footage.tif", None, options)
+        analyser = FrameAnalyser(setup, options)
+        ref = setup.reference
+        t = setup.view.threshold
+        seen = 0
+        for i in range(0, len(reader), 3):
+            frame = reader.get_frame(i)
+            if as_float:
+                frame = frame.astype(np.float32)
+            result = analyser(i, frame)
+            d64 = np.where(ref.valid, 1.0 - frame / np.maximum(ref.image, 1e-6), np.nan)
+            with np.errstate(invalid="ignore"):
+                raw = d64 >= t
+                sure = ~(np.abs(d64 - t) < _AMBIGUOUS)
+            lab, n = ndimage.label(raw, structure=np.ones((3, 3), int))
+            area = np.bincount(lab.ravel(), minlength=n + 1)
+            keep = area >= options.min_area_px
+            keep[0] = False
+            expected = keep[lab]
+            mask = result.detail.mask
+            np.testing.assert_array_equal(mask[sure], expected[sure], err_msg=f"frame {i}")
+            assert result.row["n_regions"] == int(keep.sum()), i
+            # the regions' mean darkness is the darkness of their pixels (float32 sums)
+            for r in range(result.regions["label"].size):
+                pix = result.detail.labels == result.regions["label"][r]
+                np.testing.assert_allclose(result.regions["mean_darkness"][r],
+                                           d64[pix].mean(), rtol=0, atol=1e-5)
+            seen += int(keep.sum() > 0)
+    assert seen > 10  # the clip shows contact in most sampled frames
+
+
+def test_the_peak_window_option_sets_where_the_front_peak_is_searched(tmp_path):
+    # a contact strip from column 50 (5.0 mm) whose darkest band lies 1.5 mm behind its
+    # front (columns 65-67, centre 6.65 mm); the peak is searched within peak_window_mm of
+    # the front: 1 mm finds the flat front, 2 mm the band
+    frames = np.full((10, 40, 200), 200, np.uint8)
+    frames[3:7, 10:30, 50:120] = 80  # darkness 0.6
+    frames[3:7, 10:30, 65:68] = 20  # darkness 0.9
+    tifffile.imwrite(tmp_path / "clip.tif", frames)
+    meta = {"fps": 1000, "mm_per_px": 0.1, "sliding_direction": "left"}
+    (tmp_path / "meta.json").write_text(json.dumps(meta))
+    peaks = {}
+    for window in (1.0, 2.0):
+        options = AnalysisOptions(overlay_frames=0, camera="fixed", peak_window_mm=window)
+        frames_df = analyze_video(tmp_path / "clip.tif", options=options).frames
+        peaks[window] = frames_df["front_peak_x_mm"].to_numpy()[3:7]
+        assert np.isnan(frames_df["front_peak_x_mm"].to_numpy()[[0, 1, 2, 7, 8, 9]]).all()
+    # the first column's centre (sub-pixel shift <= half a column) and the band's centre
+    np.testing.assert_allclose(peaks[1.0], 5.05, atol=0.05)
+    np.testing.assert_allclose(peaks[2.0], 6.65, atol=0.05)
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.uint32, np.float32])

@@ -18,7 +18,7 @@ import numpy as np
 
 from tir_contact.flatfield import Reference
 
-__all__ = ["BoxDarkness", "Normaliser", "RawContactTest"]
+__all__ = ["BoxDarkness", "ContactTest", "Normaliser", "RawContactTest"]
 
 
 class Normaliser:
@@ -123,6 +123,35 @@ class RawContactTest:
         if self.dark:
             return np.less(frame, self.limit, out=out)
         return np.greater(frame, self.limit, out=out)
+
+
+class ContactTest:
+    """Contact pixels ``D >= threshold`` of whole frames, written into a reused buffer.
+
+    On the raw grey values (:class:`RawContactTest`, pixel for pixel the same) where the
+    frame's dtype allows it; otherwise (float frames, a limit the dtype cannot hold) on the
+    frame's darkness. Excluded pixels (NaN darkness) never pass.
+    """
+
+    def __init__(self, normaliser: Normaliser, threshold: float) -> None:
+        self.normaliser = normaliser
+        self.threshold = threshold
+        self._raw: dict[str, RawContactTest | None] = {}  # by dtype character
+        self._buf: np.ndarray | None = None
+
+    def __call__(self, frame: np.ndarray) -> np.ndarray:
+        """The contact pixels of `frame` (bool; valid until the next call)."""
+        if self._buf is None or self._buf.shape != frame.shape:
+            self._buf = np.empty(frame.shape, np.bool_)
+        test = self._raw.get(frame.dtype.char, False)
+        if test is False:
+            test = RawContactTest.build(self.normaliser, self.threshold, frame.dtype)
+            self._raw[frame.dtype.char] = test
+        raw = test(frame, out=self._buf) if test is not None else None
+        if raw is None:
+            with np.errstate(invalid="ignore"):  # NaN compares False: excluded
+                raw = np.greater_equal(self.normaliser(frame), self.threshold, out=self._buf)
+        return raw
 
 
 class BoxDarkness:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 __all__ = ["AnalysisOptions"]
@@ -44,6 +45,10 @@ class AnalysisOptions:
         Lowest contact threshold when nothing moves (``camera="follows"``): ice texture
         (bubbles, scratches, dust) removes at most about a third of the light and cannot
         be told from contact by motion there.
+    peak_window_mm : float
+        Length behind an element's front edge (TIR) searched for the front-edge pressure
+        peak, mm (at most half the element's contact is searched); 1 mm holds the 0.4 mm
+        edge band of a new sample.
     overlay_frames : int
         Overlay images written (first, middle and last frames with the block, the frame of
         largest contact, ...).
@@ -73,6 +78,7 @@ class AnalysisOptions:
     camera: str = "auto"
     noise_sigmas: float = 5.0
     static_min_darkness: float = 0.4
+    peak_window_mm: float = 1.0
     overlay_frames: int = 4
     overlay_video: bool = False
     overlay_video_max_frames: int = 400
@@ -91,5 +97,8 @@ class AnalysisOptions:
             raise ValueError(f"regions must be 'auto', 'always' or 'never', got {self.regions!r}")
         if self.camera not in ("auto", "fixed", "follows"):
             raise ValueError(f"camera must be 'auto', 'fixed' or 'follows', got {self.camera!r}")
+        if not (math.isfinite(self.peak_window_mm) and self.peak_window_mm > 0):
+            raise ValueError(f"peak_window_mm must be a finite number > 0, got "
+                             f"{self.peak_window_mm!r}")
         if not self.noise_sigmas > 0:
             raise ValueError(f"noise_sigmas must be > 0, got {self.noise_sigmas!r}")

@@ -153,13 +153,13 @@ class Tables:
 
     def frames(self) -> pd.DataFrame:
         """``frames.csv``: one row per frame (:data:`FRAME_COLUMNS` first)."""
-        if self.setup.view == "tir" and self.rows:  # rows hold exactly FRAME_COLUMNS
+        if self.setup.view_name == "tir" and self.rows:  # rows hold exactly FRAME_COLUMNS
             return pd.DataFrame({c: [r[c] for r in self.rows] for c in FRAME_COLUMNS})
         return _reorder(pd.DataFrame(self.rows), FRAME_COLUMNS)
 
     def elements(self) -> pd.DataFrame:
         """``elements.csv``: one row per frame and element (:data:`ELEMENT_COLUMNS` first)."""
-        if self.setup.view == "tir":
+        if self.setup.view_name == "tir":
             return _records_table(self._el_rows, self._el_frames, self.setup.fps)
         return _concat(self._el_tables, ELEMENT_COLUMNS)
 
@@ -276,10 +276,10 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
                    f"of {setup.max_dn:.0f}")
     in_view = frames["block_in_view"].astype(bool)
     if len(frames) and not in_view.any():
-        what = "contact" if setup.view == "tir" else "block"
+        what = "contact" if setup.view_name == "tir" else "block"
         out.append(f"no {what} found in any of the {len(frames)} frames analysed "
                    f"(reference: {setup.reference_method})")
-    if setup.tir is not None and len(frames):
+    if setup.view_name == "tir" and len(frames):
         at_rim = int((frames["contact_at_lit_rim"] == True).sum())  # noqa: E712 (NaN: no)
         if at_rim:
             out.append(f"contact touches the rim of the lit zone in {at_rim} of {len(frames)} "
@@ -309,6 +309,7 @@ def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
              frames: pd.DataFrame, elements: pd.DataFrame, skipped: list[dict[str, Any]],
              elapsed: float, lost: list[int]) -> dict[str, Any]:
     ref = setup.reference
+    fit = setup.view.reference_fit  # TIR with --reference
     in_view = frames["block_in_view"].astype(bool)
     return {
         "result_version": _RESULT_VERSION,
@@ -316,7 +317,7 @@ def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
         "complete": not skipped and not lost,
         "video": str(path),
         "name": name,
-        "view": setup.view,
+        "view": setup.view_name,
         "n_frames": setup.n_frames,
         "n_frames_analysed": len(frames),
         "frames_without_block": int((~in_view).sum()),
@@ -330,52 +331,16 @@ def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
             "method": setup.reference_method,
             "n_frames": ref.n_frames if ref is not None else 1,
             "excluded_fraction": ref.excluded_fraction if ref is not None else None,
-            **({"fit": setup.reference_fit.as_dict()} if setup.reference_fit is not None
-               else {}),
+            **({"fit": fit.as_dict()} if fit is not None else {}),
         },
         "camera": setup.camera,
-        **_tir_assumptions(setup),
-        "contrast": setup.contrast,
-        "threshold": _finite_or_none(setup.threshold),
-        **({"populations": setup.area_model.summary()} if setup.area_model is not None
-           else {}),
+        **setup.view.summary(),
         "meta": setup.meta,
         "options": asdict(options),
         "fingerprint": footage_fingerprint(path),
         "frames_per_s": len(frames) / elapsed if elapsed > 0 else None,
         "package_version": __version__,
     }
-
-
-def _tir_assumptions(setup: VideoSetup) -> dict[str, Any]:
-    """What the TIR analysis assumed about the light and the noise (``summary.json``)."""
-    t = setup.tir
-    if t is None:
-        return {}
-    lit = t.lit.mask
-    sigma = t.noise.sigma_darkness(t.reference.image)
-    measured = t.reference.valid
-    return {
-        "lit_fraction": float(lit.mean()),
-        "lit_zone": {
-            "method": t.lit.method,
-            "fraction": float(lit.mean()),
-            "bright_level": _finite_or_none(t.lit.bright_level),
-            "black_level": _finite_or_none(t.lit.black_level),
-            "measured_fraction": float(measured.mean()),
-            "too_noisy_fraction": float((lit & ~measured).mean()),
-        },
-        "noise": {
-            "grey_variance_a_dn2": t.noise.a,
-            "grey_variance_b_dn": t.noise.b,
-            "darkness_sigma_median": _finite_or_none(float(np.median(sigma[measured]))
-                                                     if measured.any() else math.nan),
-        },
-    }
-
-
-def _finite_or_none(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
 
 
 class _OverlayVideo:
@@ -412,13 +377,12 @@ def _draw(setup: VideoSetup, frame: np.ndarray, result: Any) -> np.ndarray:
     k = result.row["frame"]
     label = f"frame {k}  t = {k / setup.fps * 1e3:.2f} ms"
     el = result.element_table()
-    if setup.view == "tir":
-        lit, top = None, setup.max_dn
-        if setup.tir is not None:  # dim footage is stretched to its lit level
-            lit = setup.tir.lit.mask
-            bright = setup.tir.lit.bright_level
-            if math.isfinite(bright) and bright > 0:
-                top = min(top, 1.1 * bright)
+    if setup.view_name == "tir":
+        top = setup.max_dn
+        lit = setup.view.tir.lit.mask  # dim footage is stretched to its lit level
+        bright = setup.view.tir.lit.bright_level
+        if math.isfinite(bright) and bright > 0:
+            top = min(top, 1.1 * bright)
         return draw_tir_overlay(frame, result.detail.mask, el, result.row,
                                 mm_per_px=setup.mm_per_px, max_dn=top, label=label, lit=lit)
     lines = getattr(result.detail, "lines", {}) or {}
@@ -463,7 +427,7 @@ def write_results(result: VideoAnalysis, final: Path, reader: Any, analyser: Any
             for stem, df in tables.items():
                 df.to_parquet(stage / f"{stem}.parquet", index=False)
         if options.plots:
-            plot_video_results(result.frames, result.elements, stage, view=setup.view,
+            plot_video_results(result.frames, result.elements, stage, view=setup.view_name,
                                title=result.summary["name"])
         if options.overlay_frames > 0:
             (stage / "overlays").mkdir()
@@ -477,8 +441,9 @@ def write_results(result: VideoAnalysis, final: Path, reader: Any, analyser: Any
                             _draw(setup, frame, analyser(k, frame)))
         if video is not None and video.path.exists() and video.path.stat().st_size > 0:
             os.replace(video.path, stage / "overlay.avi")
-        if setup.tir is not None:  # the lit zone, white where TIR light reaches
-            cv2.imwrite(str(stage / "lit_mask.png"), setup.tir.lit.mask.astype(np.uint8) * 255)
+        if setup.view_name == "tir":  # the lit zone, white where TIR light reaches
+            cv2.imwrite(str(stage / "lit_mask.png"),
+                        setup.view.tir.lit.mask.astype(np.uint8) * 255)
         write_json(stage / "summary.json", result.summary)
         return replace_folder(stage, final)
     except BaseException:

@@ -353,6 +353,7 @@ def label_contact(
     *,
     min_area_px: int = 4,
     box: tuple[slice, slice] | None = None,
+    counts: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> FrameContact:
     """Drop small regions from a thresholded frame and label the rest (8-connected).
 
@@ -368,6 +369,9 @@ def label_contact(
         Regions smaller than this (px) are dropped.
     box : (slice, slice), optional
         :func:`contact_box` of `raw` when already known.
+    counts : (ndarray, ndarray), optional
+        With `box`: the True pixels of `raw` per column and per row (int32), as
+        ``_box_and_counts`` gives them.
 
     Returns
     -------
@@ -382,7 +386,6 @@ def label_contact(
     """
     if min_area_px < 1:
         raise ValueError(f"min_area_px must be >= 1, got min_area_px={min_area_px!r}")
-    counts = None
     if box is None:
         box, counts = _box_and_counts(raw)
     return _label_box(raw, threshold, darkness, min_area_px, box, counts)

@@ -59,6 +59,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="contact darkness; threshold = half of it (default: estimated)")
     g.add_argument("--min-area-px", type=positive_int, default=4,
                    help="drop contact regions smaller than this (px, default 4)")
+    g.add_argument("--peak-window-mm", type=positive_number, default=1.0, metavar="MM",
+                   help="length behind an element's front edge searched for the front-edge "
+                        "pressure peak (TIR; mm, default 1; at most half the contact)")
     g.add_argument("--overlay-frames", type=int, default=4, metavar="N",
                    help="overlay images per video (default 4, 0: none)")
     g.add_argument("--overlay-video", action=argparse.BooleanOptionalAction, default=False,
@@ -94,6 +97,7 @@ def run(args: argparse.Namespace) -> int:
         camera=args.camera,
         contrast=args.contrast,
         min_area_px=args.min_area_px,
+        peak_window_mm=args.peak_window_mm,
         overlay_frames=max(0, args.overlay_frames),
         overlay_video=args.overlay_video,
         plots=args.plots,

@@ -1,0 +1,382 @@
+"""The TIR view: contact seen as darkness against the free surface of the ice.
+
+:meth:`TirView.prepare` decides, once per video from the sampled frames, the lit zone, the
+camera mode and the free surface (:func:`tir_contact.reference.tir_reference`, or a user's
+``--reference`` fitted to the footage), the contact contrast and threshold, the pixels too
+noisy to measure, and the darkness populations the area is measured against
+(:func:`tir_contact.measure.area_model`). :meth:`TirView.analyser` gives the per-frame step,
+:class:`TirFrames`, one path for every frame:
+
+1. contact pixels ``D >= threshold`` (:class:`tir_contact._darkness.ContactTest`: on the raw
+   grey values where the dtype allows, pixel for pixel the same as on the darkness);
+2. the box holding them and the darkness ``D`` only in it, widened by the columns the
+   features read (:class:`tir_contact._darkness.BoxDarkness`, the arithmetic of
+   :func:`tir_contact.flatfield.darkness`), NaN elsewhere;
+3. regions (:func:`tir_contact.segment.label_contact`);
+4. block, elements and front-edge peaks (:func:`tir_contact.features.frame_rows`, the body
+   of :func:`tir_contact.features.tir_frame_features`);
+5. further columns of the row (:meth:`TirFrames.extra_columns`: the area with its error
+   bar) and the regions touching the lit zone's rim.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import cv2
+import numpy as np
+from scipy.stats import norm
+
+from tir_contact._darkness import BoxDarkness, ContactTest, Normaliser
+from tir_contact._percentile import pixelwise_percentile
+from tir_contact._readers import FootageError
+from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows
+from tir_contact.flatfield import Reference
+from tir_contact.illumination import lit_zone_from_file
+from tir_contact.measure import AreaModel, area_model, frame_area
+from tir_contact.options import AnalysisOptions
+from tir_contact.reference import TirReference, measurable, tir_reference
+from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
+from tir_contact.segment import FrameContact, _box_and_counts, estimate_contrast, label_contact
+from tir_contact.view import FrameResult, fully_in_view, read_reference_file
+
+__all__ = ["TirFrames", "TirView"]
+
+
+@dataclass
+class TirView:
+    """The TIR view of one video (:meth:`prepare`).
+
+    Attributes
+    ----------
+    tir : TirReference
+        Lit zone, free surface and noise.
+    contrast : float or None
+        Contact contrast (the user's, or estimated from the samples).
+    threshold : float
+        Darkness threshold of contact.
+    area_model : AreaModel or None
+        The free-surface and contact darkness populations the contact area is measured
+        against (:func:`tir_contact.measure.area_model`).
+    reference_fit : ReferenceFit or None
+        With ``--reference``: gain, shift and residual of the user's image fitted to the
+        footage (:func:`tir_contact.reference_fit.fit_reference`).
+    """
+
+    name: ClassVar[str] = "tir"
+    tir: TirReference
+    contrast: float | None
+    threshold: float
+    area_model: AreaModel | None = None
+    reference_fit: ReferenceFit | None = None
+
+    @property
+    def reference(self) -> Reference:
+        """The free surface (pixels too noisy to measure excluded)."""
+        return self.tir.reference
+
+    @property
+    def method(self) -> str:
+        return self.tir.method
+
+    @property
+    def camera(self) -> str:
+        return self.tir.camera
+
+    @classmethod
+    def prepare(cls, samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
+                options: AnalysisOptions) -> tuple[TirView, list[str]]:
+        """The view of a video from its sampled frames, and the warnings found.
+
+        The free surface and noise (:func:`_tir_reference`), the contrast
+        (:func:`_contrast`) and threshold (:func:`_threshold`), the pixels too noisy for
+        that threshold (:func:`tir_contact.reference.measurable`), then the video's model of
+        the darkness populations (:meth:`population_model`).
+        """
+        tref, ref_fit, notes = _tir_reference(samples, shape, contact_is, options)
+        contrast = options.contrast
+        if contrast is None:
+            contrast = _contrast(samples, tref, contact_is, options)
+        threshold = _threshold(contrast, options, tref.camera)
+        # pixels too noisy for the threshold are not measured
+        tref = measurable(tref, threshold, n_sigma=options.noise_sigmas)
+        model = cls.population_model(samples, tref, contact_is, options)
+        return cls(tref, contrast, threshold, model, ref_fit), notes + model.notes
+
+    @staticmethod
+    def population_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
+                         options: AnalysisOptions) -> AreaModel:
+        """The per-video model of the darkness populations (free surface, contact), made
+        once in :meth:`prepare` from the sampled frames (:func:`_area_model`)."""
+        return _area_model(samples, tref, contact_is, options)
+
+    def analyser(self, setup: Any, options: AnalysisOptions) -> TirFrames:
+        """The per-frame step of this video."""
+        return TirFrames(self, setup, options)
+
+    def summary(self) -> dict[str, Any]:
+        """Light, noise, contrast, threshold and populations (``summary.json``)."""
+        return {
+            **_tir_assumptions(self.tir),
+            "contrast": self.contrast,
+            "threshold": _finite_or_none(self.threshold),
+            **({"populations": self.area_model.summary()} if self.area_model is not None
+               else {}),
+        }
+
+
+class TirFrames:
+    """The per-frame step of a TIR video: ``frames(k, frame) -> FrameResult``.
+
+    Keeps what does not change between frames: the contact test, the box darkness image,
+    the valid-pixel counts of the reference's mask.
+    """
+
+    def __init__(self, view: TirView, setup: Any, options: AnalysisOptions) -> None:
+        self.view = view
+        self.setup = setup
+        self.options = options
+        self.normalise = Normaliser(view.reference, setup.contact_is)
+        rim = view.tir.lit.rim
+        self._rim = rim if rim is not None and rim.any() else None
+        self.want_regions = options.regions == "always" or (
+            options.regions == "auto" and setup.layout.element_lengths_mm is None
+        )
+        self._threshold = view.threshold
+        self._test = ContactTest(self.normalise, view.threshold)
+        self._box = BoxDarkness(self.normalise, setup.shape)
+        self._valid_counts = ValidCounts()  # the reference's mask is fixed within a video
+
+    def segment(self, frame: np.ndarray) -> tuple[np.ndarray, FrameContact, tuple | None]:
+        """Steps 1 to 3: the darkness (in the box, NaN elsewhere), the contact, and the
+        column sums of the box's darkness (None without contact)."""
+        raw = self._test(frame)  # a reused buffer: `raw` does not outlive the frame
+        box, counts = _box_and_counts(raw)
+        if box is None:  # no contact
+            d = self._box.clear()
+            return d, FrameContact(raw.shape, self._threshold, 0, d), None
+        # the rows and (widened) columns the features read
+        rows = box[0]
+        cols = slice(max(box[1].start - EDGE_MARGIN_PX, 0),
+                     min(box[1].stop + EDGE_MARGIN_PX, raw.shape[1]))
+        d = self._box.fill(frame, rows, cols)
+        # the features' column sums, while the darkness is still in the cache
+        sums = (rows.start, rows.stop, cols.start, cv2.reduce(
+            d[rows, cols], 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel())
+        contact = label_contact(raw, self._threshold, d, min_area_px=self.options.min_area_px,
+                                box=box, counts=counts)
+        return d, contact, sums
+
+    def __call__(self, k: int, frame: np.ndarray) -> FrameResult:
+        """Analyse frame `frame`, recorded frame number `k`: contact, block, elements and,
+        when wanted, regions."""
+        s = self.setup
+        t = k / s.fps
+        d, contact, sums = self.segment(frame)
+        row, el_rows = frame_rows(d, contact, s.layout, self.normalise.valid, t,
+                                  self.options.peak_window_mm, sums, self._valid_counts)
+        row["frame"] = k
+        row["time_s"] = t
+        row["n_regions"] = contact.n_regions
+        self.extra_columns(frame, d, contact, row)
+        row["block_fully_in_view"] = row["block_in_view"] and fully_in_view(
+            row["block_front_x_mm"], s)
+        at_rim = self._at_rim(contact) if self._rim is not None else None
+        row["contact_at_lit_rim"] = at_rim is not None and bool(at_rim[1:].any())
+        regions = None
+        if self.want_regions:
+            regions = contact.region_arrays()
+            regions["frame"] = np.full(contact.n_regions, k)
+            regions["at_lit_rim"] = (at_rim[1:] if at_rim is not None
+                                     else np.zeros(contact.n_regions, bool))
+        return FrameResult(row, el_rows, regions, contact)
+
+    def extra_columns(self, frame: np.ndarray, d: np.ndarray, contact: FrameContact,
+                      row: dict[str, Any]) -> None:
+        """Step 5: the row's columns from the video's population model and this frame: the
+        contact area as a measurement with its error bar
+        (:func:`tir_contact.measure.frame_area`).
+
+        `d` holds the darkness in the contact's box (widened by
+        :data:`~tir_contact.features.EDGE_MARGIN_PX` columns) and NaN elsewhere; `contact`
+        is the segmentation (``contact.box``, ``contact.box_labels``); the video's setup is
+        ``self.setup``, its model ``self.view.area_model``.
+        """
+        model = self.view.area_model
+        px2 = self.setup.mm_per_px ** 2
+        if model is None:
+            area = row["contact_area_mm2"]
+            row["contact_area_low_mm2"] = row["contact_area_high_mm2"] = area
+            return
+        a = frame_area(self.normalise(frame), model)
+        row["contact_area_mm2"] = a.area_px * px2
+        row["contact_area_low_mm2"] = a.low_px * px2
+        row["contact_area_high_mm2"] = a.high_px * px2
+
+    def _at_rim(self, contact: FrameContact) -> np.ndarray:
+        """Which regions (index = label, 0 unused) touch the rim of the lit zone."""
+        out = np.zeros(contact.n_regions + 1, bool)
+        if contact.box is not None:
+            out[contact.box_labels[self._rim[contact.box]]] = True
+            out[0] = False
+        return out
+
+
+def _tir_assumptions(t: TirReference) -> dict[str, Any]:
+    """What the TIR analysis assumed about the light and the noise (``summary.json``)."""
+    lit = t.lit.mask
+    sigma = t.noise.sigma_darkness(t.reference.image)
+    measured = t.reference.valid
+    return {
+        "lit_fraction": float(lit.mean()),
+        "lit_zone": {
+            "method": t.lit.method,
+            "fraction": float(lit.mean()),
+            "bright_level": _finite_or_none(t.lit.bright_level),
+            "black_level": _finite_or_none(t.lit.black_level),
+            "measured_fraction": float(measured.mean()),
+            "too_noisy_fraction": float((lit & ~measured).mean()),
+        },
+        "noise": {
+            "grey_variance_a_dn2": t.noise.a,
+            "grey_variance_b_dn": t.noise.b,
+            "darkness_sigma_median": _finite_or_none(float(np.median(sigma[measured]))
+                                                     if measured.any() else math.nan),
+        },
+    }
+
+
+def _finite_or_none(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+# -- prepare: the free surface, contrast, threshold and populations ---------------------------
+def _contrast(samples: list[np.ndarray], tref: TirReference, contact_is: str,
+              options: AnalysisOptions) -> float | None:
+    """Contact contrast: the median over the samples of each one's median darkness of the
+    pixels surely in contact, darker than ``min_darkness`` and than ``noise_sigmas`` times
+    their darkness noise (on a dim free surface, bright contact on a dark one above all,
+    noise alone passes ``min_darkness``)."""
+    norm = Normaliser(tref.reference, contact_is)
+    sure = np.maximum(np.float32(options.min_darkness), np.float32(options.noise_sigmas)
+                      * tref.noise.sigma_darkness(tref.reference.image))[::2, ::2]
+    every_other = (slice(None, None, 2), slice(None, None, 2))
+    # every other row and column: a median needs no more
+    values = [estimate_contrast(norm.region(f, *every_other), min_darkness=sure)
+              for f in samples]
+    finite = [v for v in values if np.isfinite(v)]
+    return float(np.median(finite)) if finite else None
+
+
+def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
+                options: AnalysisOptions) -> AreaModel:
+    """The darkness populations of a TIR video (:func:`tir_contact.measure.area_model`) from
+    the sampled frames' darkness on the measured pixels."""
+    norm = Normaliser(tref.reference, contact_is)
+    darkness = [norm(f) for f in samples]
+    sigma = tref.noise.sigma_darkness(tref.reference.image)
+    return area_model(darkness, sigma, contrast=options.contrast,
+                      min_cluster_px=options.min_area_px,
+                      static=tref.camera == "follows")
+
+
+def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:
+    """The darkness threshold of contact: half the contrast, at least half ``min_darkness``.
+
+    When nothing moves (``camera="follows"``) the free surface under a static dark spot is
+    estimated, so ice texture (bubbles, scratches, dust: they remove at most about a third
+    of the light, where contact removes most of it) would count as contact; the threshold
+    is then at least ``static_min_darkness``.
+    """
+    floor = 0.5 * options.min_darkness
+    if camera == "follows":
+        floor = max(floor, options.static_min_darkness)
+    if contrast is None or not math.isfinite(contrast):
+        return floor
+    return max(0.5 * contrast, floor)
+
+
+def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
+                   options: AnalysisOptions
+                   ) -> tuple[TirReference, ReferenceFit | None, list[str]]:
+    """Lit zone, camera mode, free surface and noise (:func:`tir_contact.reference.tir_reference`)
+    with the user's lit mask and reference image, when given.
+
+    A user's reference is first fitted to the footage (gain and shift,
+    :func:`tir_contact.reference_fit.fit_reference`) against the footage's own estimate;
+    a reference that does not fit is not used (a warning says so, naming the file and the
+    residual), and the footage's own estimate stands.
+    """
+    lit = lit_zone_from_file(options.lit_mask, shape) if options.lit_mask else None
+    kwargs = dict(contact_is=contact_is, percentile=options.percentile,
+                  min_darkness=options.min_darkness,
+                  min_block_fraction=options.min_block_fraction)
+    try:
+        own = tir_reference(samples, camera=options.camera, lit=lit, **kwargs)
+        if options.reference is None:
+            return own, None, []
+        raw = read_reference_file(options.reference, shape).image
+        fit = fit_reference(raw, _free_image(samples, own, contact_is, options.percentile),
+                            noise=own.noise, lit=own.lit.mask, contact_is=contact_is)
+        if not fit.fits:
+            note = (f"{options.reference}: the reference image does not fit the footage: "
+                    f"after the best gain ({fit.gain:.3f}) and shift ({fit.shift_px[0]:+.2f}, "
+                    f"{fit.shift_px[1]:+.2f}) px its residual on the free surface is "
+                    f"{fit.residual_rms:.3f} in darkness, {fit.noise_ratio:.1f} times the "
+                    f"noise (at most {MAX_NOISE_RATIO:g}); it was not used, the free surface "
+                    "was estimated from the footage")
+            own = dataclasses.replace(own, method=own.method + " (the --reference image "
+                                      "did not fit)")
+            return own, fit, [note]
+        # where the shifted reference has no data (a strip along the border), the
+        # footage's own estimate
+        image = np.where(fit.inside, fit.image, own.reference.image.astype(np.float32))
+        tref = tir_reference(samples, camera=options.camera, lit=own.lit, image=image,
+                             **kwargs)
+        method = (f"file, fitted: gain {fit.gain:.3f}, shift ({fit.shift_px[0]:+.2f}, "
+                  f"{fit.shift_px[1]:+.2f}) px")
+        return dataclasses.replace(tref, method=method), fit, []
+    except ValueError as exc:
+        raise FootageError(str(exc), options.lit_mask) from exc
+
+
+def _free_image(samples: list[np.ndarray], own: TirReference, contact_is: str,
+                percentile: float) -> np.ndarray:
+    """The footage's free surface wherever it shows, for fitting a user's reference.
+
+    A block passing a fixed camera may cover a pixel in most frames: there each pixel's
+    bright `percentile` over the samples, less its expected excess over the mean (the
+    normal order statistic times the noise, :func:`_percentile_excess`); a static scene:
+    each pixel's median.
+    """
+    if len(samples) == 1:
+        return np.asarray(samples[0], np.float32)
+    if own.camera == "fixed" and len(samples) >= 5:
+        q = percentile if contact_is == "dark" else 100.0 - percentile
+        image = np.asarray(pixelwise_percentile(samples, q), np.float32)
+        excess = _percentile_excess(len(samples), q) * own.noise.sigma_grey(image)
+        return (image - excess).astype(np.float32)
+    return np.asarray(pixelwise_percentile(samples, 50.0), np.float32)
+
+
+def _percentile_excess(n: int, q: float) -> float:
+    """Expected `q`-th percentile (linear interpolation, as numpy's) of `n` standard normal
+    values: Blom's approximation ``Phi^-1((i - 0.375) / (n + 0.25))`` of the order
+    statistics either side, interpolated.
+
+    Examples
+    --------
+    >>> round(_percentile_excess(32, 90.0), 2), _percentile_excess(7, 50.0)  # Monte Carlo: 1.201
+    (1.2, 0.0)
+    """
+    pos = q / 100.0 * (n - 1)
+    i = min(math.floor(pos), n - 1)
+    f = pos - i
+
+    def blom(k: int) -> float:  # k 0-based
+        return float(norm.ppf((k + 1 - 0.375) / (n + 0.25)))
+
+    return (1 - f) * blom(i) + (f * blom(i + 1) if f > 0 else 0.0)
