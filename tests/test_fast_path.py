@@ -47,18 +47,24 @@ def test_pixelwise_percentile_is_numpys(n, q):
 
 
 @pytest.mark.parametrize("contact_is", ["dark", "bright"])
-def test_normaliser_is_the_flat_field_darkness_with_nan_where_excluded(contact_is):
-    # one convention for excluded pixels: NaN, in flatfield.darkness and in the normaliser
+def test_darkness_is_the_flat_field_ratio_with_nan_where_excluded(contact_is):
+    # one convention for excluded pixels: NaN; the values are 1 - I/I_ref (I/I_ref - 1) in
+    # float64, written out here
     rng = np.random.default_rng(3)
     ref = rng.uniform(20.0, 250.0, (24, 31))
     valid = rng.random(ref.shape) > 0.2
     frame = rng.integers(0, 256, ref.shape, dtype=np.uint8)
     reference = Reference(ref, valid, "test", 1)
-    fast = Normaliser(reference, contact_is)(frame)
-    plain = darkness(frame, reference, contact_is=contact_is)
-    assert np.array_equal(np.isnan(fast), ~valid) and np.array_equal(np.isnan(plain), ~valid)
-    # float32: 1 - I/I_ref against I * (-1/I_ref) + 1, a few ulp of values up to ~12
-    np.testing.assert_allclose(fast[valid], plain[valid], rtol=0, atol=1e-5)
+    got = darkness(frame, reference, contact_is=contact_is)
+    ratio = frame / ref
+    truth = 1.0 - ratio if contact_is == "dark" else ratio - 1.0
+    assert got.dtype == np.float32
+    assert np.array_equal(np.isnan(got), ~valid)
+    # float32: I * (-1/I_ref) + 1, a few ulp of values up to ~12
+    np.testing.assert_allclose(got[valid], truth[valid], rtol=0, atol=1e-5)
+    # the analysis's normaliser is the same arithmetic, bit for bit
+    np.testing.assert_array_equal(Normaliser(reference, contact_is)(frame).view(np.uint32),
+                                  got.view(np.uint32))
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16])

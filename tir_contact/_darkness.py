@@ -1,12 +1,14 @@
-"""Darkness of TIR frames against a fixed reference, and its fast path on raw grey values.
+"""The contact test and the darkness of TIR frames where the features read it.
 
-:class:`Normaliser` computes the darkness ``D`` of a whole frame (float32, NaN at excluded
-pixels, as :func:`tir_contact.flatfield.darkness`). Most of a frame is free surface, though,
-and only the contact's neighbourhood is ever read. :class:`RawContactTest` therefore
+:class:`~tir_contact.flatfield.Normaliser` computes the darkness ``D`` of a whole frame
+(float32, NaN at excluded pixels: :func:`tir_contact.flatfield.darkness`). Most of a frame
+is free surface, though, and only the contact's neighbourhood is ever read.
+:class:`RawContactTest` therefore
 thresholds the *raw* frame against a per-pixel grey-value limit that is exactly equivalent
 to ``D >= threshold`` (found by evaluating the normaliser's own float32 arithmetic at the
 limit, so no pixel flips by rounding), and :class:`BoxDarkness` computes ``D`` only inside
-the contact's box.
+the contact's box; :class:`ContactTest` is the test the analysis runs (on the raw grey
+values where the dtype allows, else on the darkness).
 """
 
 from __future__ import annotations
@@ -16,40 +18,9 @@ import math
 import cv2
 import numpy as np
 
-from tir_contact.flatfield import Reference
+from tir_contact.flatfield import Normaliser
 
 __all__ = ["BoxDarkness", "ContactTest", "Normaliser", "RawContactTest"]
-
-
-class Normaliser:
-    """Darkness of a frame against a fixed reference, NaN at excluded pixels.
-
-    ``D = 1 - I / I_ref`` for dark contact, ``I / I_ref - 1`` for bright contact, in
-    float32 (one multiply and one add per pixel; the scale is NaN at excluded pixels, so
-    they come out NaN at no extra cost): :func:`tir_contact.flatfield.darkness`, faster.
-    """
-
-    def __init__(self, reference: Reference, contact_is: str) -> None:
-        self.reference = reference
-        self.valid = reference.valid
-        self.contact_is = contact_is
-        inv = np.where(reference.valid, 1.0 / np.maximum(reference.image, 1e-6), np.nan)
-        sign = -1.0 if contact_is == "dark" else 1.0
-        self.scale = (sign * inv).astype(np.float32)
-        self.offset = (-sign * reference.valid).astype(np.float32)
-
-    def __call__(self, frame: np.ndarray) -> np.ndarray:
-        d = frame.astype(np.float32)
-        d *= self.scale
-        d += self.offset
-        return d
-
-    def region(self, frame: np.ndarray, rows: slice, cols: slice) -> np.ndarray:
-        """The darkness of ``frame[rows, cols]``, bit-identical to ``self(frame)[rows, cols]``."""
-        d = frame[rows, cols].astype(np.float32)
-        d *= self.scale[rows, cols]
-        d += self.offset[rows, cols]
-        return d
 
 
 class RawContactTest:

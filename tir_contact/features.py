@@ -595,6 +595,29 @@ def _fit_offset(
     return tied[0]
 
 
+class _Piece(NamedTuple):
+    """A contact run (or the part of one between two sipes) and the element it belongs to."""
+
+    element: int
+    c0: int  # first column (mirrored frame)
+    c1: int  # last column, inclusive
+    split_front: bool  # the front is a cut at a sipe, not an edge
+    split_back: bool  # the back is a cut at a sipe
+
+
+@dataclass(slots=True)
+class _Run:
+    """One element's contact in one frame, in px of the mirrored frame (step 3)."""
+
+    front_px: float  # leading edge of its first run
+    length_px: float  # summed length of its runs
+    area_px: int  # contact pixels of its runs
+    c0: int  # first run's first column
+    c1: int  # first run's last column (inclusive)
+    front_clipped: bool  # the first run starts at the image border
+    back_clipped: bool  # its last run ends at the image border
+
+
 def _assign(
     starts: list[int],
     ends: list[int],
@@ -603,8 +626,8 @@ def _assign(
     lengths: list[float],
     quarters: list[float],
     sipe_px: float,
-) -> list[tuple[int, int, int, bool, bool]]:
-    """(element, c0, c1, split_front, split_back) per (sub-)run; c1 inclusive.
+) -> list[_Piece]:
+    """The :class:`_Piece` of each (sub-)run.
 
     `quarters` holds ``0.25 * lengths``; plain floats, as the element-wise numpy operations
     would round them.
@@ -612,7 +635,7 @@ def _assign(
     t_lo = [x0 + f for f in fronts]
     t_hi = [a + n for a, n in zip(t_lo, lengths, strict=True)]
     elements = range(len(fronts))
-    out: list[tuple[int, int, int, bool, bool]] = []
+    out: list[_Piece] = []
     for c0, c1 in zip(starts, ends, strict=True):
         s, e = float(c0), float(c1) + 1.0
         ov = [(h if h < e else e) - (a if a > s else s) for a, h in zip(t_lo, t_hi, strict=True)]
@@ -626,14 +649,14 @@ def _assign(
             for n_i, i in enumerate(big):
                 lo_c, hi_c = cuts[n_i], cuts[n_i + 1] - 1
                 if hi_c >= lo_c:
-                    out.append((i, lo_c, hi_c, n_i > 0, n_i < len(big) - 1))
+                    out.append(_Piece(i, lo_c, hi_c, n_i > 0, n_i < len(big) - 1))
             continue
         i = ov.index(max(ov))  # the first of equal overlaps, as argmax
         if ov[i] <= 0:  # no overlap at all: the nearest element
             mid = 0.5 * (c0 + c1 + 1)
             dist = [abs(0.5 * (a + h) - mid) for a, h in zip(t_lo, t_hi, strict=True)]
             i = dist.index(min(dist))
-        out.append((i, c0, c1, False, False))
+        out.append(_Piece(i, c0, c1, False, False))
     return out
 
 
@@ -852,34 +875,35 @@ def _mirrored_profiles(
 
 
 def _element_runs(
-    pieces: list[tuple[int, int, int, bool, bool]],
+    pieces: list[_Piece],
     areas: list[int],
     p: list[float],
     n_cols: int,
-) -> dict[int, list[Any]]:
+) -> dict[int, _Run]:
     """Step 3: each element's front edge, summed length, area and first run (px).
 
-    Values per element: ``[front, length, area, c0, c1, front_clipped, back_clipped]``; a
-    further run of the same element adds its length and area, the front and peak stay the
-    first run's.
+    A further run of the same element adds its length and area; the front and peak stay
+    the first run's.
     """
-    per: dict[int, list[Any]] = {}
-    for (i, c0, c1, split_f, split_b), area in zip(pieces, areas, strict=True):
+    per: dict[int, _Run] = {}
+    for piece, area in zip(pieces, areas, strict=True):
+        c0, c1 = piece.c0, piece.c1
         level = 0.5 * _median(p[c0 : c1 + 1])
-        x_f = float(c0) if split_f else _front_edge(p, c0, c1, level)
-        x_b = float(c1 + 1) if split_b else _back_edge(p, c0, c1, level, n_cols)
-        e = per.get(i)
+        x_f = float(c0) if piece.split_front else _front_edge(p, c0, c1, level)
+        x_b = float(c1 + 1) if piece.split_back else _back_edge(p, c0, c1, level, n_cols)
+        e = per.get(piece.element)
         if e is None:
-            per[i] = [x_f, x_b - x_f, area, c0, c1, c0 == 0 and not split_f, c1 == n_cols - 1]
+            per[piece.element] = _Run(x_f, x_b - x_f, area, c0, c1,
+                                      c0 == 0 and not piece.split_front, c1 == n_cols - 1)
         else:
-            e[1] += x_b - x_f
-            e[2] += area
-            e[6] = c1 == n_cols - 1
+            e.length_px += x_b - x_f
+            e.area_px += area
+            e.back_clipped = c1 == n_cols - 1
     return per
 
 
 def _element_rows(
-    per: dict[int, list[Any]],
+    per: dict[int, _Run],
     x0: float,
     x_und: float,
     layout: BlockLayout,
@@ -898,15 +922,16 @@ def _element_rows(
     window_px = peak_window_mm / px
     rows = []
     for i in sorted(per):
-        x_f, length_px, area, c0, c1, clip_f, clip_b = per[i]
+        run = per[i]
+        x_f, clip_f, clip_b = run.front_px, run.front_clipped, run.back_clipped
         t = x0 + fronts_l[i]
         inside = t >= 0.0 and t + lengths_l[i] <= n_cols
-        length_mm = length_px * px
+        length_mm = run.length_px * px
         if clip_f:
             front_mm = pk_mm = width_mm = contrast = _NAN
         else:
             front_mm = _image_mm(x_f, n_cols, px, flip)
-            pos, width_px, contrast = _front_peak(p, c0, c1, window_px)
+            pos, width_px, contrast = _front_peak(p, run.c0, run.c1, window_px)
             pk_mm = _image_mm(pos, n_cols, px, flip) if pos == pos else _NAN
             width_mm = width_px * px
         tip = angle = _NAN
@@ -915,8 +940,11 @@ def _element_rows(
             if height is not None:
                 angle = math.degrees(math.atan2(tip, height))
         liftoff = _NAN if (clip_f or clip_b or not inside) else max(0.0, lengths_mm[i] - length_mm)
-        rows.append(ElementRow(i, area * px * px, length_mm, front_mm, pk_mm, contrast,
-                               liftoff, angle, width_mm, tip))
+        rows.append(ElementRow(
+            element=i, contact_area_mm2=run.area_px * px * px, contact_length_mm=length_mm,
+            front_edge_x_mm=front_mm, front_peak_x_mm=pk_mm, front_peak_contrast=contrast,
+            liftoff_mm=liftoff, deflection_angle_deg=angle, front_peak_width_mm=width_mm,
+            tip_deflection_mm=tip))
     return rows
 
 
@@ -1000,8 +1028,8 @@ def frame_rows(
                      layout.sipe_width_mm / px)
     # Columns between runs (below half coverage) count for the area of the nearer run.
     bounds = [0]
-    for (_, _, c1a, _, _), (_, c0b, _, _, _) in itertools.pairwise(pieces):
-        bounds.append((c1a + 1 + c0b) // 2)
+    for a, b in itertools.pairwise(pieces):
+        bounds.append((a.c1 + 1 + b.c0) // 2)
     areas = np.add.reduceat(counts, bounds, dtype=np.int64).tolist()
     total = sum(areas)  # the pieces' areas partition the columns
     frame = _empty_frame(contact.n_regions, total * px * px)

@@ -27,6 +27,7 @@ import numpy as np
 from tir_contact._percentile import pixelwise_percentile
 
 __all__ = [
+    "Normaliser",
     "Reference",
     "darkness",
     "reference_from_frame",
@@ -62,6 +63,41 @@ class Reference:
     def excluded_fraction(self) -> float:
         """Fraction of the image excluded because the light does not reach it."""
         return float(1.0 - self.valid.mean())
+
+
+class Normaliser:
+    """Darkness of frames against a fixed reference, NaN at excluded pixels
+    (:func:`darkness`, which the per-frame step of the analysis runs through this).
+
+    ``D = 1 - I / I_ref`` for dark contact, ``I / I_ref - 1`` for bright contact, in
+    float32 as one multiply and one add per pixel, ``D = I * scale + offset``: the scale
+    ``-1 / I_ref`` (dark) or ``1 / I_ref`` (bright) and the offset ``1`` or ``-1`` are
+    made once per reference; the scale is NaN at excluded pixels, so they come out NaN at
+    no extra cost.
+    """
+
+    def __init__(self, reference: Reference, contact_is: str) -> None:
+        _check_contact_is(contact_is)
+        self.reference = reference
+        self.valid = reference.valid
+        self.contact_is = contact_is
+        inv = np.where(reference.valid, 1.0 / np.maximum(reference.image, 1e-6), np.nan)
+        sign = -1.0 if contact_is == "dark" else 1.0
+        self.scale = (sign * inv).astype(np.float32)
+        self.offset = (-sign * reference.valid).astype(np.float32)
+
+    def __call__(self, frame: np.ndarray) -> np.ndarray:
+        d = frame.astype(np.float32)
+        d *= self.scale
+        d += self.offset
+        return d
+
+    def region(self, frame: np.ndarray, rows: slice, cols: slice) -> np.ndarray:
+        """The darkness of ``frame[rows, cols]``, bit-identical to ``self(frame)[rows, cols]``."""
+        d = frame[rows, cols].astype(np.float32)
+        d *= self.scale[rows, cols]
+        d += self.offset[rows, cols]
+        return d
 
 
 def _check_contact_is(contact_is: str) -> None:
@@ -197,10 +233,9 @@ def darkness(frame: np.ndarray, reference: Reference, *, contact_is: str = "dark
     [[0.0, 0.75], [0.5, 0.0]]
     """
     _check_contact_is(contact_is)
+    frame = np.asarray(frame)
     if frame.shape != reference.image.shape:
         raise ValueError(
             f"frame shape {frame.shape} differs from the reference {reference.image.shape}"
         )
-    ratio = np.asarray(frame, np.float32) / np.maximum(reference.image, 1e-6).astype(np.float32)
-    d = 1.0 - ratio if contact_is == "dark" else ratio - 1.0
-    return np.where(reference.valid, d, np.nan).astype(np.float32)
+    return Normaliser(reference, contact_is)(frame)
