@@ -242,13 +242,19 @@ def segment_frame(
     contrast: float | None = None,
     min_darkness: float = 0.25,
     min_area_px: int = 4,
+    threshold: float | None = None,
+    raw: np.ndarray | None = None,
+    box: tuple[slice, slice] | None = None,
+    counts: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> FrameContact:
-    """Segment the real contact in one normalised frame.
+    """Segment the real contact in one normalised frame (the analysis's step,
+    :class:`tir_contact.tir_view.TirFrames`).
 
     Parameters
     ----------
     d : (M, N) ndarray of float
-        Darkness, 0 on the free surface (NaN or 0 where excluded).
+        Darkness, 0 on the free surface (NaN or 0 where excluded). The analysis passes the
+        darkness computed only in the contact's box (NaN elsewhere).
     contrast : float, optional
         Contact contrast; estimated from the frame (:func:`estimate_contrast`) when
         omitted. The threshold is ``contrast / 2``.
@@ -256,6 +262,16 @@ def segment_frame(
         See :func:`estimate_contrast`; also the lowest threshold used.
     min_area_px : int
         Regions smaller than this (px) are dropped.
+    threshold : float, optional
+        The darkness threshold of contact itself (the video's, as
+        :meth:`tir_contact.tir_view.TirView.prepare` decides it); `contrast` and
+        `min_darkness` are then not used.
+    raw : (M, N) ndarray of bool, optional
+        ``d >= threshold``, when already tested (the analysis tests the raw grey values,
+        :class:`tir_contact._darkness.ContactTest`); needs `threshold`.
+    box, counts : optional
+        :func:`contact_box` of `raw` and its True pixels per column and per row, when known
+        (see :func:`label_contact`).
 
     Returns
     -------
@@ -271,20 +287,24 @@ def segment_frame(
     Examples
     --------
     >>> d = np.zeros((6, 8)); d[1:4, 2:6] = 0.8
-    >>> segment_frame(d).area_px
-    12
+    >>> segment_frame(d).area_px, segment_frame(d, threshold=0.9).area_px
+    (12, 0)
     """
     if d.ndim != 2:
         raise ValueError(f"d must be a 2-D image, got shape {d.shape}")
     if min_area_px < 1:
         raise ValueError(f"min_area_px must be >= 1, got min_area_px={min_area_px!r}")
-    c = estimate_contrast(d, min_darkness=min_darkness) if contrast is None else float(contrast)
-    if not np.isfinite(c):
-        return FrameContact(d.shape, np.nan, 0, d)
-    threshold = max(0.5 * c, 0.5 * min_darkness)
-    with np.errstate(invalid="ignore"):
-        raw = d >= threshold  # NaN compares False: excluded pixels are never contact
-    return label_contact(raw, threshold, d, min_area_px=min_area_px)
+    if threshold is None:
+        if raw is not None:
+            raise ValueError("raw needs the threshold it was tested with")
+        c = estimate_contrast(d, min_darkness=min_darkness) if contrast is None else float(contrast)
+        if not np.isfinite(c):
+            return FrameContact(d.shape, np.nan, 0, d)
+        threshold = max(0.5 * c, 0.5 * min_darkness)
+    if raw is None:
+        with np.errstate(invalid="ignore"):
+            raw = d >= threshold  # NaN compares False: excluded pixels are never contact
+    return label_contact(raw, threshold, d, min_area_px=min_area_px, box=box, counts=counts)
 
 
 def contact_box(raw: np.ndarray) -> tuple[slice, slice] | None:

@@ -12,7 +12,8 @@ noisy to measure, and the darkness populations the area is measured against
 2. the box holding them and the darkness ``D`` only in it, widened by the columns the
    features read (:class:`tir_contact._darkness.BoxDarkness`, the arithmetic of
    :func:`tir_contact.flatfield.darkness`), NaN elsewhere;
-3. regions (:func:`tir_contact.segment.label_contact`);
+3. regions (:func:`tir_contact.segment.segment_frame` with the video's threshold and the
+   tested pixels);
 4. block, elements and front-edge peaks (:func:`tir_contact.features.frame_rows`, the body
    of :func:`tir_contact.features.tir_frame_features`);
 5. further columns of the row (:meth:`TirFrames.extra_columns`: the area with its error
@@ -40,7 +41,7 @@ from tir_contact.measure import AreaModel, area_model, frame_area
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
 from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
-from tir_contact.segment import FrameContact, _box_and_counts, estimate_contrast, label_contact
+from tir_contact.segment import FrameContact, _box_and_counts, estimate_contrast, segment_frame
 from tir_contact.view import FrameResult, fully_in_view, read_reference_file
 
 __all__ = ["TirFrames", "TirView"]
@@ -166,8 +167,8 @@ class TirFrames:
         # the features' column sums, while the darkness is still in the cache
         sums = (rows.start, rows.stop, cols.start, cv2.reduce(
             d[rows, cols], 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel())
-        contact = label_contact(raw, self._threshold, d, min_area_px=self.options.min_area_px,
-                                box=box, counts=counts)
+        contact = segment_frame(d, threshold=self._threshold, raw=raw, box=box, counts=counts,
+                                min_area_px=self.options.min_area_px)
         return d, contact, sums
 
     def __call__(self, k: int, frame: np.ndarray) -> FrameResult:
