@@ -18,6 +18,9 @@ Features (:mod:`tir_contact.features`, :mod:`tir_contact.side`)
     :class:`BlockLayout`, :func:`tir_frame_features`, :func:`tir_frame_records`,
     :class:`FrameFeatures`, :func:`side_frame_features`, :func:`side_darkness`,
     :func:`ice_line_y_px`, :func:`block_span_px`, :class:`SideFeatures`.
+Views (:mod:`tir_contact.view`, :mod:`tir_contact.tir_view`, :mod:`tir_contact.side_view`)
+    :class:`View`, :class:`TirView`, :class:`SideView`, :class:`FrameResult`: one object per
+    view, prepared per video, with its per-frame step.
 Whole videos and batches (:mod:`tir_contact.analyze`, :mod:`tir_contact.batch`)
     :func:`analyze_video`, :class:`AnalysisOptions`, :class:`VideoAnalysis`,
     :func:`find_footage`, :func:`analyze_batch`, :class:`BatchReport`.
@@ -66,6 +69,10 @@ _LAZY = {
     "side_frame_features": "tir_contact.side",
     "ice_line_y_px": "tir_contact.side",
     "block_span_px": "tir_contact.side",
+    "View": "tir_contact.view",
+    "FrameResult": "tir_contact.view",
+    "TirView": "tir_contact.tir_view",
+    "SideView": "tir_contact.side_view",
     "AnalysisOptions": "tir_contact.analyze",
     "VideoAnalysis": "tir_contact.analyze",
     "analyze_video": "tir_contact.analyze",
