@@ -44,6 +44,7 @@ import numpy as np
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
+from tir_contact.measure import ASSUMED_FULL_DARKNESS
 
 __all__ = [
     "CAMERA_MODES",
@@ -85,6 +86,76 @@ class FreeSurface:
     candidates: np.ndarray
     size_px: int
     widest_px: float
+
+
+#: Darkness below the closing that a contact reaches and a fold of the light need not:
+#: half the darkness of full contact (:data:`tir_contact.measure.ASSUMED_FULL_DARKNESS`).
+CORE_DARKNESS = ASSUMED_FULL_DARKNESS / 2
+#: Widest edge (px) of a contact candidate: its depth below the closing over the steepest
+#: quarter of its boundary's light gradient. A contact's edge is as sharp as the optics
+#: and the 1.5 px smoothing make it (Gaussian blur sigma s: sqrt(2 pi) s, 6.3 px for a
+#: 2 px lens blur); light that falls off or folds inside the lit zone does so over tens
+#: of pixels, and is not contact.
+MAX_EDGE_PX = 8.0
+
+
+def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
+           lit: np.ndarray) -> np.ndarray:
+    """The sharp-edged part of the candidates `cand`: each 8-connected region whose edge
+    width (:func:`_edge_widths`) is at most :data:`MAX_EDGE_PX`; of a soft region (light
+    falling off, a fold), the sharp regions darker than half of full contact inside it (a
+    contact that lies in the fold), with the soft region's pixels within
+    :data:`MARGIN_PX` of them."""
+    if not cand.any():
+        return cand
+    depth = closed - smooth
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = np.where(closed > 0, depth / np.maximum(closed, 1e-6), 0.0)
+    grad = _gradient(smooth)
+    n, lab = cv2.connectedComponents(cand.astype(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    keep = _edge_widths(lab, n, grad, depth, lit) <= MAX_EDGE_PX
+    keep[0] = False
+    out = keep[lab]
+    soft = cand & ~out
+    core = soft & (d > CORE_DARKNESS)
+    if core.any():
+        m, clab = cv2.connectedComponents(core.astype(np.uint8), connectivity=8,
+                                          ltype=cv2.CV_32S)
+        ck = _edge_widths(clab, m, grad, depth, lit) <= MAX_EDGE_PX
+        ck[0] = False
+        sharp_core = ck[clab]
+        if sharp_core.any():
+            near = cv2.dilate(sharp_core.astype(np.uint8), cv2.getStructuringElement(
+                cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
+            out |= near & soft
+    return out
+
+
+def _gradient(smooth: np.ndarray) -> np.ndarray:
+    """Magnitude of the light's gradient, grey values per px."""
+    gx = cv2.Sobel(smooth, cv2.CV_32F, 1, 0, ksize=3, scale=0.125)
+    gy = cv2.Sobel(smooth, cv2.CV_32F, 0, 1, ksize=3, scale=0.125)
+    return cv2.magnitude(gx, gy)
+
+
+def _edge_widths(lab: np.ndarray, n: int, grad: np.ndarray, depth: np.ndarray,
+                 lit: np.ndarray) -> np.ndarray:
+    """Edge width (px) of each labelled region (index = label): its median depth below the
+    closing over the median gradient on its lit boundary ring (0 for a
+    region without one: it is kept)."""
+    mask = (lab > 0).astype(np.uint8)
+    inner = cv2.erode(mask, np.ones((3, 3), np.uint8)).astype(bool)
+    ring = cv2.dilate(mask, np.ones((3, 3), np.uint8)).astype(bool) & ~inner & lit
+    owner = cv2.dilate(lab.astype(np.float32), np.ones((3, 3), np.uint8)).astype(np.int32)
+    widths = np.zeros(n)
+    for k in range(1, n):
+        on = ring & (owner == k)
+        if not on.any():
+            continue
+        g = float(np.median(grad[on]))
+        dk = float(np.median(depth[lab == k]))
+        widths[k] = dk / g if g > 0 else np.inf
+    return widths
 
 
 def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
@@ -170,6 +241,7 @@ def free_surface(
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(closed > 0, 1.0 - smooth / np.maximum(closed, 1e-6), 0.0)
         cand = _fill_holes(((d > candidate_darkness) & lit_mask).astype(np.uint8)).astype(bool)
+        cand = _sharp(cand, smooth, closed, lit_mask)
         widest = 0.0
         if cand.any():
             dist = cv2.distanceTransform(cand.astype(np.uint8), cv2.DIST_L2, 5)
