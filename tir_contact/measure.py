@@ -53,6 +53,7 @@ __all__ = [
     "AreaModel",
     "FrameArea",
     "area_model",
+    "correlation_area",
     "frame_area",
 ]
 
@@ -129,6 +130,8 @@ class AreaModel:
         See :func:`area_model`.
     static : bool
         See :func:`area_model`.
+    zone_sigma, zone_corr_px : float
+        See :func:`area_model`.
     """
 
     offset: float
@@ -150,6 +153,8 @@ class AreaModel:
     notes: list[str] = field(default_factory=list)
     min_cluster_px: int = 4
     static: bool = False
+    zone_sigma: float = 0.0
+    zone_corr_px: float = 1.0
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -199,14 +204,21 @@ def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
     noise = float(np.median(sigma_noise[np.isfinite(sigma_noise)])) if np.isfinite(
         sigma_noise).any() else 0.0
     texture = math.sqrt(max(spread ** 2 - noise ** 2, 0.0))
-    return (b, texture, _correlation_px(samples, b, spread), int(values.size),
+    return (b, texture, correlation_area(samples, b, spread), int(values.size),
             float(np.mean(values, dtype=np.float64)), float(np.std(values, dtype=np.float64)))
 
 
-def _correlation_px(samples: list[np.ndarray], b: float, spread: float) -> float:
-    """Correlation area (px) of the free surface: ``K var(block mean) / var(pixel)`` over
-    blocks of ``K`` = :data:`CORR_BLOCK_PX` squared pixels wholly measured and free (no
-    pixel beyond the free surface's reach, 4 sigma)."""
+def correlation_area(samples: list[np.ndarray], b: float, spread: float) -> float:
+    """Correlation area (px) of a stationary field around `b` with spread `spread`:
+    ``K var(block mean) / var(pixel)`` over blocks of ``K`` = :data:`CORR_BLOCK_PX` squared
+    pixels wholly finite and below ``b + 4 spread`` (no contact); between 1 and ``K``.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> round(correlation_area([rng.normal(0, 1, (256, 256))], 0.0, 1.0), 1)  # white noise
+    1.0
+    """
     if spread <= 0:
         return 1.0
     k = CORR_BLOCK_PX
@@ -259,7 +271,8 @@ def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
 
 def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                contrast: float | None = None, min_cluster_px: int = 4,
-               static: bool = False) -> AreaModel:
+               static: bool = False, zone_sigma: float = 0.0,
+               zone_corr_px: float = 1.0) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -279,6 +292,11 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         a camera that follows the block): dust, bubbles and scratches are then dark in it,
         and clusters of seeds far from resolved contact are taken for them when the video
         shows resolved contact at all.
+    zone_sigma, zone_corr_px : float
+        A static scene: the spread and correlation area of the light the free surface
+        estimate cannot follow over a contact
+        (:attr:`tir_contact.reference.FreeSurface.texture_sigma`); the error bar adds it
+        over the contact's pixels.
 
     Returns
     -------
@@ -353,7 +371,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
             f"{threshold:.3f} only, the rest is unmixed and its error bar is wide")
     return AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c, c_lo,
                      c_hi, source,
-                     n_full, threshold, separation, notes, int(min_cluster_px), bool(static))
+                     n_full, threshold, separation, notes, int(min_cluster_px), bool(static),
+                     float(zone_sigma), float(zone_corr_px))
 
 
 @dataclass(frozen=True)
@@ -537,7 +556,10 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     if n_z:
         sd_sum = model.sigma_free * math.sqrt(n_z * model.corr_px)
         sd_b = n_z * model.sigma_free * math.sqrt(model.corr_px / max(model.n_free, 1))
-        sd = math.hypot(sd_sum, sd_b) / c
+        # a static scene: the light the free surface estimate continues over the contact
+        # but cannot follow there
+        sd_zone = model.zone_sigma * math.sqrt(n_z * model.zone_corr_px)
+        sd = math.sqrt(sd_sum ** 2 + sd_b ** 2 + sd_zone ** 2) / c
     area = part_res + excess_un / c
     low = (min(part_res, res_lo) + excess_un / max(model.contact_high, 1e-6)
            - BAND_SIGMAS * sd)

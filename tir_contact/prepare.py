@@ -452,7 +452,8 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     sigma = tref.noise.sigma_darkness(tref.reference.image)
     return area_model(darkness, sigma, contrast=options.contrast,
                       min_cluster_px=options.min_area_px,
-                      static=tref.camera == "follows")
+                      static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
+                      zone_corr_px=tref.texture_corr_px)
 
 
 def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:

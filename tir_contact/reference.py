@@ -44,7 +44,7 @@ import numpy as np
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
-from tir_contact.measure import ASSUMED_FULL_DARKNESS
+from tir_contact.measure import ASSUMED_FULL_DARKNESS, correlation_area
 
 __all__ = [
     "CAMERA_MODES",
@@ -80,12 +80,18 @@ class FreeSurface:
         Diameter of the closing disc used.
     widest_px : float
         Widest candidate (twice its largest inscribed radius), px.
+    texture_sigma, texture_corr_px : float
+        Spread (relative) and correlation area (px) of the light's variation at scales
+        below :data:`TEXTURE_SCALE_PX` on the free surface (:func:`_texture`): what an
+        estimate continued over a contact cannot follow there.
     """
 
     image: np.ndarray
     candidates: np.ndarray
     size_px: int
     widest_px: float
+    texture_sigma: float = 0.0
+    texture_corr_px: float = 1.0
 
 
 #: Darkness below the closing that a contact reaches and a fold of the light need not:
@@ -274,7 +280,27 @@ def free_surface(
     _fit_over_contacts(surface, smooth, margin, near, lit_mask, widest)
     if contact_is == "bright":
         surface = (top - surface).astype(np.float32)
-    return FreeSurface(surface, cand, size, widest)
+    tex, tex_corr = _texture(smooth, lit_mask & ~margin)
+    return FreeSurface(surface, cand, size, widest, tex, tex_corr)
+
+
+#: Scale (Gaussian sigma, px) of the light field an estimate over a contact continues:
+#: twice the margin around the candidates.
+TEXTURE_SCALE_PX = 2 * MARGIN_PX
+
+
+def _texture(smooth: np.ndarray, free: np.ndarray) -> tuple[float, float]:
+    """Robust spread (1.4826 MAD) of ``smooth / field - 1`` on the `free` pixels, ``field``
+    the light smoothed over :data:`TEXTURE_SCALE_PX`, and its correlation area in px
+    (:func:`tir_contact.measure.correlation_area`)."""
+    if free.sum() < 100:
+        return 0.0, 1.0
+    field = cv2.GaussianBlur(smooth, (0, 0), TEXTURE_SCALE_PX)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(free & (field > 0), smooth / np.maximum(field, 1e-6) - 1.0, np.nan)
+    values = t[np.isfinite(t)]
+    sigma = float(1.4826 * np.median(np.abs(values - np.median(values))))
+    return sigma, correlation_area([t.astype(np.float32)], float(np.median(values)), sigma)
 
 
 #: Contacts (largest first) whose free surface is fitted by a quadratic; the rest keep the
@@ -486,6 +512,10 @@ class TirReference:
         How the free surface was made, in words (for ``summary.json``).
     noise : NoiseModel
         Grey-value noise of the free surface.
+    texture_sigma, texture_corr_px : float
+        Free surface estimated from the image (a static scene): the light's variation the
+        estimate cannot follow over a contact (:attr:`FreeSurface.texture_sigma`); 0 and 1
+        when frames show the free surface.
     """
 
     reference: Reference
@@ -493,6 +523,8 @@ class TirReference:
     camera: str
     method: str
     noise: NoiseModel
+    texture_sigma: float = 0.0
+    texture_corr_px: float = 1.0
 
 
 def _median(frames: list[np.ndarray]) -> np.ndarray:
@@ -597,6 +629,7 @@ def tir_reference(
     if image is not None:
         free = np.asarray(image, np.float32)
         mode, method, cand = "fixed", "file", np.zeros(shape, bool)
+        tex = (0.0, 1.0)
     else:
         mode = camera
         if mode == "auto":
@@ -604,6 +637,7 @@ def tir_reference(
                 frames, median, bright, mask, min_darkness, min_block_fraction, contact_is)
                     else "follows")
         cand = np.zeros(shape, bool)
+        tex = (0.0, 1.0)
         if mode == "fixed" and len(frames) >= 5:
             free, method = bright, "percentile"
             # does the percentile image still hold the block (a slow pass)? One closing
@@ -620,6 +654,7 @@ def tir_reference(
         else:
             fs = free_surface(median, mask, contact_is=contact_is)
             free, cand = fs.image, fs.candidates
+            tex = (fs.texture_sigma, fs.texture_corr_px)
             method = (f"fitted free surface ({len(frames)} frame(s); closing "
                       f"{fs.size_px} px)")
     if contact_is == "bright" and find_lit:
@@ -638,7 +673,7 @@ def tir_reference(
     away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
     noise = noise_model(_residuals(frames, free), free, away)
     ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))
-    return TirReference(ref, lit, mode, method, noise)
+    return TirReference(ref, lit, mode, method, noise, *tex)
 
 
 def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0) -> TirReference:
