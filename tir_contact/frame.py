@@ -37,7 +37,7 @@ from tir_contact.features import (
     element_records,
     frame_rows,
 )
-from tir_contact.measure import frame_area
+from tir_contact.measure import EDGE_PX, ZONE_PX, FrameArea, frame_area
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup
 from tir_contact.segment import FrameContact, _box_and_counts, _label_box, label_contact
@@ -99,6 +99,33 @@ def analyze_frame(frame: np.ndarray, setup: VideoSetup, options: AnalysisOptions
     FrameResult
     """
     return FrameAnalyser(setup, options or AnalysisOptions(), fast=False)(k, frame)
+
+
+def _labels_in(contact: FrameContact, box: tuple[slice, slice],
+               same: bool) -> tuple[np.ndarray, int] | None:
+    """The segmentation's region labels placed in `box` (which holds the contact's box),
+    when it segmented at the measurement's threshold (`same`)."""
+    if not same:
+        return None
+    lab = np.zeros((box[0].stop - box[0].start, box[1].stop - box[1].start), np.int32)
+    if contact.box is not None and contact.box_labels is not None:
+        r, c = contact.box
+        lab[r.start - box[0].start:r.stop - box[0].start,
+            c.start - box[1].start:c.stop - box[1].start] = contact.box_labels
+    return lab, contact.n_regions + 1
+
+
+def _union(a: tuple[slice, slice] | None, b: tuple[slice, slice] | None,
+           shape: tuple[int, int], grow: int) -> tuple[slice, slice] | None:
+    """The box holding boxes `a` and `b` (either may be None), grown by `grow` px."""
+    boxes = [x for x in (a, b) if x is not None]
+    if not boxes:
+        return None
+    r0 = max(min(x[0].start for x in boxes) - grow, 0)
+    r1 = min(max(x[0].stop for x in boxes) + grow, shape[0])
+    c0 = max(min(x[1].start for x in boxes) - grow, 0)
+    c1 = min(max(x[1].stop for x in boxes) + grow, shape[1])
+    return slice(r0, r1), slice(c0, c1)
 
 
 def fully_in_view(front_mm: float, setup: VideoSetup, margin_mm: float = 0.5) -> bool:
@@ -202,7 +229,7 @@ class FrameAnalyser:
         row["frame"] = k
         row["time_s"] = t
         row["n_regions"] = contact.n_regions
-        self._measure(frame, row)
+        self._measure(frame, row, contact)
         row["block_fully_in_view"] = row["block_in_view"] and fully_in_view(
             row["block_front_x_mm"], s)
         at_rim = self._at_rim(contact) if self._rim is not None else None
@@ -215,19 +242,52 @@ class FrameAnalyser:
                                      else np.zeros(contact.n_regions, bool))
         return FrameResult(row, el_rows, regions, contact)
 
-    def _measure(self, frame: np.ndarray, row: dict[str, Any]) -> None:
+    def _measure(self, frame: np.ndarray, row: dict[str, Any], contact: FrameContact) -> None:
         """The frame's contact area as a measurement, with its error bar
-        (:func:`tir_contact.measure.frame_area`)."""
+        (:func:`tir_contact.measure.frame_area`).
+
+        A fixed camera whose free surface separates from contact: only the box around the
+        seed pixels (found on the raw grey values, :class:`RawContactTest` at the model's
+        per-pixel seed level) and the contact, grown by the zone around contact, is read;
+        otherwise (a static scene, or a free surface that reaches past half of full
+        contact) the whole frame, whose darkness budget then counts.
+        """
         model = self.setup.area_model
         px2 = self.setup.mm_per_px ** 2
         if model is None:
             area = row["contact_area_mm2"]
             row["contact_area_low_mm2"] = row["contact_area_high_mm2"] = area
             return
-        a = frame_area(self.normalise(frame), model)
+        a = None
+        if not model.static and model.separation > 1.0:
+            test = self._seed_test(frame)
+            if test is not None:
+                seeds = test(frame)
+                box = _union(_box_and_counts(seeds)[0], contact.box, frame.shape, ZONE_PX
+                             + EDGE_PX + 1)
+                if box is None:
+                    a = FrameArea(0.0, 0.0, 0.0, 0, 0.0)
+                else:
+                    a = frame_area(self.normalise.region(frame, *box), model, box,
+                                   _labels_in(contact, box, self.setup.threshold
+                                              == model.threshold))
+        if a is None:
+            a = frame_area(self.normalise(frame), model)
         row["contact_area_mm2"] = a.area_px * px2
         row["contact_area_low_mm2"] = a.low_px * px2
         row["contact_area_high_mm2"] = a.high_px * px2
+
+    def _seed_test(self, frame: np.ndarray) -> RawContactTest | None:
+        """The model's seed level as a test of the raw grey values (per dtype)."""
+        if not self._fast:
+            return None
+        key = "seed" + frame.dtype.char
+        test = self._raw_tests.get(key, False)
+        if test is False:
+            test = RawContactTest.build(self.normalise, self.setup.area_model.seed,
+                                        frame.dtype)
+            self._raw_tests[key] = test
+        return test
 
     def _at_rim(self, contact: FrameContact) -> np.ndarray:
         """Which regions (index = label, 0 unused) touch the rim of the lit zone."""

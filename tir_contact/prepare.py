@@ -369,6 +369,9 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
         reference = tref.reference
         model = _area_model(samples, tref, contact_is, options)
         notes += model.notes
+        # the decision where the two populations separate (tir_contact.measure): half
+        # the darkness of full contact, at least the free surface's reach
+        threshold, contrast = model.threshold, model.contact_darkness
     layout = BlockLayout.from_meta(meta)
     camera = tref.camera if tref is not None else side_camera or (
         "fixed" if reference is not None else "follows")
