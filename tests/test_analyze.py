@@ -140,9 +140,15 @@ def test_without_geometry_every_region_is_reported(copy_meta, clip, tmp_path):
     per_frame = res.regions.groupby("frame").area_mm2.sum()
     frames = res.frames.set_index("frame").loc[per_frame.index]
     # the regions are the pixels counted at half contrast, the frame's area the measurement
-    # (tir_contact.measure: unmixed, with its error bar): the count lies within the bar
-    assert (frames["contact_area_low_mm2"] <= per_frame + 1e-9).all()
-    assert (per_frame <= frames["contact_area_high_mm2"] + 1e-9).all()
+    # (tir_contact.measure: resolved contact's edges unmixed): both hold the true area, the
+    # count to the edge's half pixel (2 %), the measurement within its bar in 90 % of frames
+    true = truth[truth.element == -1].set_index("frame").loc[per_frame.index,
+                                                               "contact_area_mm2"]
+    big = true > 20.0
+    assert (per_frame[big] / true[big] - 1).abs().median() < 0.02
+    assert (frames["contact_area_mm2"][big] / true[big] - 1).abs().median() < 0.02
+    inside = ((frames["contact_area_low_mm2"] <= true) & (true <= frames["contact_area_high_mm2"]))
+    assert inside.mean() >= 0.9
 
 
 def test_clip_folder_and_frames_folder_are_the_same_footage(clip, tmp_path):

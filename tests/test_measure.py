@@ -191,3 +191,52 @@ def test_box_limits_the_search():
     assert boxed.resolved_px == whole.resolved_px
     assert boxed.area_px == pytest.approx(whole.area_px, rel=0.002)
     assert math.isfinite(boxed.high_px)
+
+
+def test_contact_plot_draws_the_error_bar(tmp_path, monkeypatch):
+    """contact.png shades the band between contact_area_low_mm2 and _high_mm2."""
+    import matplotlib.collections
+    import pandas as pd
+
+    from tir_contact import plots
+
+    t = np.arange(5) / 1000.0
+    frames = pd.DataFrame({"time_s": t, "contact_area_mm2": [1.0, 2, 3, 2, 1],
+                           "contact_area_low_mm2": [0.9, 1.8, 2.7, 1.8, 0.9],
+                           "contact_area_high_mm2": [1.2, 2.4, 3.6, 2.4, 1.2],
+                           "contact_ratio": 0.5, "block_fully_in_view": True})
+    drawn = {}
+    real_save = plots._save
+
+    def keep(fig, path):
+        drawn[path.name] = fig
+        return real_save(fig, path)
+
+    monkeypatch.setattr(plots, "_save", keep)
+    plots.plot_video_results(frames, pd.DataFrame(), tmp_path)
+    ax = drawn["contact.png"].axes[0]
+    bands = [c for c in ax.collections if isinstance(c, matplotlib.collections.PolyCollection)
+             and c.get_label() == "error bar (low-high)"]
+    assert len(bands) == 1
+    ys = bands[0].get_paths()[0].vertices[:, 1]
+    assert ys.min() == pytest.approx(0.9) and ys.max() == pytest.approx(3.6)
+
+
+def test_overlay_writes_the_area_with_its_error_bar(monkeypatch):
+    import pandas as pd
+
+    from tir_contact import overlay
+
+    written = []
+    real = overlay.cv2.putText
+
+    def spy(img, text, *args, **kw):
+        written.append(text)
+        return real(img, text, *args, **kw)
+
+    monkeypatch.setattr(overlay.cv2, "putText", spy)
+    frame = np.full((40, 60), 200, np.uint8)
+    overlay.draw_tir_overlay(frame, np.zeros((40, 60), bool), pd.DataFrame(),
+                             {"contact_area_mm2": 12.34, "contact_area_low_mm2": 11.0,
+                              "contact_area_high_mm2": 13.52}, mm_per_px=0.1, label="clip")
+    assert written[-1] == "clip  area 12.3 mm2 (11.0-13.5)"

@@ -109,8 +109,14 @@ def test_table_lists_every_clip_failed_and_warned_first(batch):
     by_name = {r[0]: r for r in page.rows[1:]}
     for name in ("G3_a", "G3_b"):
         summary = json.loads((batch / name / "summary.json").read_text())
-        area = summary["steady"]["contact_area_mm2"]["mean"]
-        assert float(by_name[name][6]) == pytest.approx(area, rel=5e-4)  # 4 digits shown
+        steady = summary["steady"]
+        area = steady["contact_area_mm2"]["mean"]
+        shown = by_name[name][6].split()
+        assert float(shown[0]) == pytest.approx(area, rel=5e-4)  # 4 digits shown
+        # the band, as summary.json holds it (issue 21: contact_area_low/high_mm2)
+        low, high = (float(v) for v in shown[1].strip("()").split("–"))
+        assert low == pytest.approx(steady["contact_area_low_mm2"]["mean"], rel=5e-4)
+        assert high == pytest.approx(steady["contact_area_high_mm2"]["mean"], rel=5e-4)
         assert int(by_name[name][9]) == summary["n_frames_analysed"]
         assert float(by_name[name][5]) == pytest.approx(summary["lit_fraction"], rel=5e-3)
 
@@ -153,6 +159,10 @@ def test_rebuilt_from_disk_over_merged_folders(batch, tmp_path, run_cli, capsys)
     summary = json.loads((merged / "G3_other_day" / "summary.json").read_text())
     summary["steady"]["contact_area_low_mm2"] = {"mean": 401.5}
     summary["steady"]["contact_area_high_mm2"] = {"mean": 512.25}
+    older = json.loads((merged / "G3_a" / "summary.json").read_text())
+    for key in ("contact_area_low_mm2", "contact_area_high_mm2"):  # a result from before
+        older["steady"].pop(key, None)                                # the band existed
+    (merged / "G3_a" / "summary.json").write_text(json.dumps(older))
     (merged / "G3_other_day" / "summary.json").write_text(json.dumps(summary))
     assert run_cli(["report", merged]) == 0
     assert capsys.readouterr().out.strip() == f"wrote {merged / 'report.html'}"

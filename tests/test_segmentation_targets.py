@@ -59,28 +59,32 @@ def _areas(folder) -> tuple[float, float]:
     res = analyze_video(folder, options=AnalysisOptions(overlay_frames=0, parquet=False))
     truth = pd.read_csv(folder / "ground_truth.csv")
     true = float(truth.loc[truth["element"] == -1, "contact_area_mm2"].mean())
-    return float(res.frames["contact_area_mm2"].mean()), true
+    f = res.frames
+    return (float(f["contact_area_mm2"].mean()), true, float(f["contact_area_low_mm2"].mean()),
+            float(f["contact_area_high_mm2"].mean()))
 
 
 @pytest.mark.xfail(
     strict=True,
-    reason="segmentation as a measurement: the free surface's texture reaches the one "
-    "threshold per video and junctions below a pixel are counted by pixels",
+    reason="segmentation as a measurement: on this textured field the static free surface "
+    "(estimated from the image, no empty frame) still misreads the texture next to the "
+    "junctions: 0.5-4 bar measure +13, +30, +6, +22 % (issue 21 note)",
 )
 def test_textured_rough_load_series_area_within_25_percent(textured_series):
-    measured, true = zip(*textured_series, strict=True)
+    measured, true, _, _ = zip(*textured_series, strict=True)
     # 25 %: the band the measured area is to carry for sub-pixel junctions
     assert np.allclose(measured, true, rtol=0.25)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="segmentation as a measurement: the measured area must grow with load as the "
-    "true area does",
-)
 def test_textured_rough_load_series_measured_area_grows_in_proportion(textured_series):
-    measured = np.array([m for m, _ in textured_series])
+    measured = np.array([m[0] for m in textured_series])
     loads = np.array(LOADS_BAR)
     beta = np.polyfit(np.log(loads), np.log(np.maximum(measured, 1e-9)), 1)[0]
     # the truth grows as p^0.9-1 (test_physical_contact); 0.8 leaves room for the error bar
     assert beta > 0.8
+
+
+def test_textured_rough_load_series_truth_inside_the_error_bar(textured_series):
+    """The error bar (contact_area_low/high_mm2) holds the true area at every load."""
+    for measured, true, low, high in textured_series:
+        assert low <= true <= high, (measured, true, low, high)

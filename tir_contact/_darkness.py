@@ -40,17 +40,25 @@ class RawContactTest:
         self.dark = dark
 
     @classmethod
-    def build(cls, normaliser: Normaliser, threshold: float,
+    def build(cls, normaliser: Normaliser, threshold: float | np.ndarray,
               dtype: np.dtype) -> RawContactTest | None:
+        """The test of ``D >= threshold`` (a number, or one per pixel: NaN never passes)."""
         dtype = np.dtype(dtype)
-        if not np.issubdtype(dtype, np.unsignedinteger) or not (math.isfinite(threshold)
-                                                               and threshold > 0):
+        if not np.issubdtype(dtype, np.unsignedinteger):
             return None
+        if np.ndim(threshold) == 0:
+            if not (math.isfinite(threshold) and threshold > 0):
+                return None
+            t32 = np.float32(threshold)
+        else:
+            t32 = np.asarray(threshold, np.float32)
+            finite = np.isfinite(t32)
+            if not finite.any() or (t32[finite] <= 0).any():
+                return None
         top = int(np.iinfo(dtype).max)
-        t32 = np.float32(threshold)
         scale, offset = normaliser.scale, normaliser.offset
         dark = normaliser.contact_is == "dark"
-        valid = normaliser.valid & (scale != 0)
+        valid = normaliser.valid & (scale != 0) & np.isfinite(t32)
 
         def passes(f: np.ndarray) -> np.ndarray:  # D(f) >= threshold, the normaliser's way
             d = f.astype(np.float32)

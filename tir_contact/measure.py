@@ -50,9 +50,12 @@ from scipy.stats import norm
 __all__ = [
     "ASSUMED_FULL_DARKNESS",
     "ASSUMED_FULL_RANGE",
+    "EDGE_PX",
+    "ZONE_PX",
     "AreaModel",
     "FrameArea",
     "area_model",
+    "correlation_area",
     "frame_area",
 ]
 
@@ -61,8 +64,10 @@ __all__ = [
 ASSUMED_FULL_DARKNESS = 0.97
 #: The range of that assumption: stray light or a black level may take back up to 15 %.
 ASSUMED_FULL_RANGE = (0.85, 1.0)
-#: Resolved interior pixels (over the sampled frames) needed to measure full contact.
-MIN_FULL_PX = 30
+#: Resolved interior pixels (over the sampled frames) needed to measure full contact: the
+#: median of 9 values is known to 0.4 sigma of the noise, well inside the range that
+#: the error bar carries.
+MIN_FULL_PX = 9
 #: Resolved contact darker than the free surface's reach but below half the assumed full
 #: darkness is full contact (seen through stray light) when its interior darkness is a
 #: plateau: the spread from its 10th to its 90th percentile at most this share of its
@@ -71,12 +76,18 @@ MIN_FULL_PX = 30
 MAX_PLATEAU_SPREAD = 1.0
 #: Expected free-surface pixels per frame above the seed threshold.
 FALSE_SEEDS_PER_FRAME = 0.05
+#: Free-surface values the statistics are taken from, at most (an even subsample).
+MAX_FREE_VALUES = 200_000
 #: Side of the blocks whose means give the free surface's correlation area, px.
 CORR_BLOCK_PX = 8
-#: Interior pixels a resolved region needs to be unmixed against its own darkness.
+#: Deep interior pixels near an edge pixel (within :data:`LOCAL_PX`) needed to unmix it
+#: against their darkness rather than the video's.
 MIN_LOCAL_PX = 9
 #: Margin (px) around a resolved region whose pixels belong to its blurred edge.
 EDGE_PX = 2
+#: Reach (px) of the deep interior whose darkness an edge pixel is unmixed against: the
+#: edge band (:data:`EDGE_PX` each side of the threshold) and as far again.
+LOCAL_PX = 2 * EDGE_PX + 2
 #: Standard deviations of the noise terms in the error bar (about 95 %).
 BAND_SIGMAS = 2.0
 
@@ -127,6 +138,8 @@ class AreaModel:
         See :func:`area_model`.
     static : bool
         See :func:`area_model`.
+    zone_sigma, zone_corr_px : float
+        See :func:`area_model`.
     """
 
     offset: float
@@ -148,6 +161,8 @@ class AreaModel:
     notes: list[str] = field(default_factory=list)
     min_cluster_px: int = 4
     static: bool = False
+    zone_sigma: float = 0.0
+    zone_corr_px: float = 1.0
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -191,20 +206,30 @@ def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
     values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
     if values.size < 100:
         return 0.0, 0.0, 1.0, int(values.size), 0.0, 0.0
+    n_values = int(values.size)
+    # an even subsample: a percentile of 2 x 10^5 values is known to 0.3 % of the spread
+    values = values[::max(1, n_values // MAX_FREE_VALUES)]
     b = float(np.median(values))
     # the 16th percentile lies one sigma below the median of a normal population
     spread = max(b - float(np.percentile(values, 100 * norm.cdf(-1.0))), 0.0)
     noise = float(np.median(sigma_noise[np.isfinite(sigma_noise)])) if np.isfinite(
         sigma_noise).any() else 0.0
     texture = math.sqrt(max(spread ** 2 - noise ** 2, 0.0))
-    return (b, texture, _correlation_px(samples, b, spread), int(values.size),
+    return (b, texture, correlation_area(samples, b, spread), n_values,
             float(np.mean(values, dtype=np.float64)), float(np.std(values, dtype=np.float64)))
 
 
-def _correlation_px(samples: list[np.ndarray], b: float, spread: float) -> float:
-    """Correlation area (px) of the free surface: ``K var(block mean) / var(pixel)`` over
-    blocks of ``K`` = :data:`CORR_BLOCK_PX` squared pixels wholly measured and free (no
-    pixel beyond the free surface's reach, 4 sigma)."""
+def correlation_area(samples: list[np.ndarray], b: float, spread: float) -> float:
+    """Correlation area (px) of a stationary field around `b` with spread `spread`:
+    ``K var(block mean) / var(pixel)`` over blocks of ``K`` = :data:`CORR_BLOCK_PX` squared
+    pixels wholly finite and below ``b + 4 spread`` (no contact); between 1 and ``K``.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> round(correlation_area([rng.normal(0, 1, (256, 256))], 0.0, 1.0), 1)  # white noise
+    1.0
+    """
     if spread <= 0:
         return 1.0
     k = CORR_BLOCK_PX
@@ -228,17 +253,31 @@ def _correlation_px(samples: list[np.ndarray], b: float, spread: float) -> float
     return float(np.clip(k * k * float(m.var()) / var_p, 1.0, k * k))
 
 
-def _resolved(mask: np.ndarray) -> np.ndarray:
+def _resolved(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, int]:
     """Pixels of the 8-connected regions of `mask` that have an interior (a pixel whose
-    3 x 3 neighbourhood lies wholly in the mask)."""
+    3 x 3 neighbourhood lies wholly in the mask), with the regions' labels and count."""
     u8 = mask.view(np.uint8) if mask.dtype == np.bool_ else mask.astype(np.uint8)
     inner = cv2.erode(u8, _CROSS3, borderType=cv2.BORDER_CONSTANT, borderValue=0)
     if not inner.any():
-        return np.zeros(mask.shape, bool)
+        return np.zeros(mask.shape, bool), None, 0
     n, lab = cv2.connectedComponents(u8, connectivity=8, ltype=cv2.CV_32S)
     flag = np.zeros(n, bool)
     flag[lab[inner.astype(bool)]] = True
     flag[0] = False
+    return flag[lab], lab, n
+
+
+def _with_interior(half: np.ndarray, lab: np.ndarray, n: int) -> np.ndarray:
+    """The labelled regions (`lab`, `n` labels with 0) that have an interior pixel."""
+    inner = cv2.erode(half.view(np.uint8), _CROSS3, borderType=cv2.BORDER_CONSTANT,
+                      borderValue=0)
+    if not inner.any():
+        return np.zeros(half.shape, bool)
+    flag = np.zeros(n, bool)
+    flag[lab[inner.astype(bool)]] = True
+    flag[0] = False
+    if flag[1:].all():  # every region has one (the usual case): no lookup
+        return half.copy()
     return flag[lab]
 
 
@@ -257,7 +296,8 @@ def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
 
 def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                contrast: float | None = None, min_cluster_px: int = 4,
-               static: bool = False) -> AreaModel:
+               static: bool = False, zone_sigma: float = 0.0,
+               zone_corr_px: float = 1.0) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -277,6 +317,11 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         a camera that follows the block): dust, bubbles and scratches are then dark in it,
         and clusters of seeds far from resolved contact are taken for them when the video
         shows resolved contact at all.
+    zone_sigma, zone_corr_px : float
+        A static scene: the spread and correlation area of the light the free surface
+        estimate cannot follow over a contact
+        (:attr:`tir_contact.reference.FreeSurface.texture_sigma`); the error bar adds it
+        over the contact's pixels.
 
     Returns
     -------
@@ -321,7 +366,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
             # weaker contact: resolved regions above the free surface's reach whose
             # darkness is a plateau (full contact seen with stray light), not a spread
             # reaching down to the free surface (partial contact below the resolution)
-            low = _interiors(samples, reach)
+            low = _interiors(samples, float(np.nextafter(np.float32(reach), np.float32(1))))
             if low.size >= MIN_FULL_PX:
                 q10, q50, q90 = np.percentile(low, [10.0, 50.0, 90.0])
                 if q50 > 0 and (q90 - q10) / q50 <= MAX_PLATEAU_SPREAD:
@@ -351,7 +396,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
             f"{threshold:.3f} only, the rest is unmixed and its error bar is wide")
     return AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c, c_lo,
                      c_hi, source,
-                     n_full, threshold, separation, notes, int(min_cluster_px), bool(static))
+                     n_full, threshold, separation, notes, int(min_cluster_px), bool(static),
+                     float(zone_sigma), float(zone_corr_px))
 
 
 @dataclass(frozen=True)
@@ -431,27 +477,27 @@ def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b:
     """Area (px) of resolved contact: its deep interior (pixels :data:`EDGE_PX` or more
     inside a resolved region) counted, every pixel one (a contact's darkness may vary
     inside it, as with pressure), and its edge band (`zone_res` less the deep interior)
-    unmixed against the darkness of its region's deep interior (where the blur has left
-    the full darkness), or against `c` for a region without :data:`MIN_LOCAL_PX` deep
-    pixels."""
+    unmixed against the mean darkness of the deep pixels within :data:`LOCAL_PX` of it
+    (where the blur has left the full darkness), or against `c` where there is none."""
+    if not resolved.any():
+        return 0.0
     deep = cv2.erode(resolved.view(np.uint8), _EDGE, borderType=cv2.BORDER_CONSTANT,
-                     borderValue=0).astype(bool) & np.isfinite(d)
-    band = zone_res & ~deep
-    n_deep = int(np.count_nonzero(deep))
-    scale = np.full(d.shape, c, np.float32)
-    if n_deep:
-        n, lab = cv2.connectedComponents(resolved.view(np.uint8), connectivity=8,
-                                         ltype=cv2.CV_32S)
-        sums = np.bincount(lab[deep], weights=d[deep], minlength=n)
-        counts = np.bincount(lab[deep], minlength=n)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            full = np.where(counts >= MIN_LOCAL_PX, sums / np.maximum(counts, 1), c)
-        full[0] = c
-        grown = cv2.dilate(lab.astype(np.float32), _EDGE).astype(np.int32)
-        scale = np.maximum(full[grown] - b, 1e-3).astype(np.float32)
-    else:
-        scale[:] = max(c - b, 1e-3)
-    return n_deep + float(np.sum((d[band] - b) / scale[band], dtype=np.float64))
+                     borderValue=0)
+    deep_b = deep.astype(bool) & np.isfinite(d)
+    band = zone_res & ~deep_b
+    n_deep = int(np.count_nonzero(deep_b))
+    if not band.any():
+        return float(n_deep)
+    size = (2 * LOCAL_PX + 1,) * 2
+    w = cv2.boxFilter(deep_b.astype(np.float32), -1, size, normalize=False,
+                      borderType=cv2.BORDER_CONSTANT)
+    v = cv2.boxFilter(np.where(deep_b, d, 0).astype(np.float32), -1, size, normalize=False,
+                      borderType=cv2.BORDER_CONSTANT)
+    w_b, v_b = w[band], v[band]
+    # enough deep pixels near: their mean; else the video's c
+    full = np.where(w_b >= MIN_LOCAL_PX, v_b / np.maximum(w_b, 1.0), c)
+    scale = np.maximum(full - b, 1e-3)
+    return n_deep + float(np.sum((d[band] - b) / scale, dtype=np.float64))
 
 
 def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float, float]:
@@ -469,17 +515,22 @@ def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float,
     return total, math.hypot(sd_sum, sd_b) / c
 
 
-def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None
-               ) -> FrameArea:
+def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None,
+               labels: tuple[np.ndarray, int] | None = None) -> FrameArea:
     """Contact area of one frame's darkness `d` (module notes), with its error bar.
 
     Parameters
     ----------
     d : (M, N) ndarray of float32
-        Darkness, NaN where not measured.
+        Darkness, NaN where not measured: of the whole frame, or of ``frame[box]``.
     model : AreaModel
     box : (slice, slice), optional
-        Only this part of `d` holds contact (the rest is free surface).
+        Only this part of the frame holds contact (the rest is free surface: no seed
+        there); the frame's darkness budget is then not drawn on.
+    labels : (ndarray of int32, int), optional
+        The 8-connected regions at or above ``model.threshold`` (of `d`'s shape) and
+        their number plus one, when the segmentation has labelled them already (regions
+        it dropped as too small have no interior and are unmixed as seeds).
 
     Returns
     -------
@@ -495,22 +546,33 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     >>> a.resolved_px, a.low_px <= 2400 <= a.high_px
     (2400, True)
     """
+    whole = box is None
     if box is not None:
-        d = d[box]
+        if d.shape == model.seed.shape:
+            d = d[box]
         seed = model.seed[box]
     else:
         seed = model.seed
     c, b = model.contact_darkness, model.offset
     with np.errstate(invalid="ignore"):
-        half = d >= model.threshold
         seeds = d >= seed
-    resolved = _resolved(half)
+        if labels is None:
+            half = d >= model.threshold
+            resolved, lab, n_lab = _resolved(half)
+        else:  # the segmentation's regions at the same threshold
+            lab, n_lab = labels
+            half = lab > 0
+            resolved = _with_interior(half, lab, n_lab)
     edge = cv2.dilate(resolved.view(np.uint8), _EDGE).astype(bool)
-    seeds = _kept_clusters(d, seeds, half, resolved, model)
-    # the unresolved contact's envelope: its seeds, their neighbours and the gaps between
-    # them narrower than the edge margin (every pixel in it unmixed, faint ones included)
-    near = cv2.morphologyEx(cv2.dilate(seeds.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
-                            _EDGE).astype(bool)
+    seeds &= ~edge  # seeds on a resolved region's edge are its own
+    if seeds.any():
+        seeds = _kept_clusters(d, seeds, half, resolved, model)
+        # the unresolved contact's envelope: its seeds, their neighbours and the gaps
+        # between them narrower than the edge margin (every pixel in it unmixed)
+        near = cv2.morphologyEx(cv2.dilate(seeds.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
+                                _EDGE).astype(bool)
+    else:
+        near = seeds
     finite = np.isfinite(d)
     zone_res = edge & finite
     zone_un = near & ~edge & finite
@@ -535,13 +597,16 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     if n_z:
         sd_sum = model.sigma_free * math.sqrt(n_z * model.corr_px)
         sd_b = n_z * model.sigma_free * math.sqrt(model.corr_px / max(model.n_free, 1))
-        sd = math.hypot(sd_sum, sd_b) / c
+        # a static scene: the light the free surface estimate continues over the contact
+        # but cannot follow there
+        sd_zone = model.zone_sigma * math.sqrt(n_z * model.zone_corr_px)
+        sd = math.sqrt(sd_sum ** 2 + sd_b ** 2 + sd_zone ** 2) / c
     area = part_res + excess_un / c
     low = (min(part_res, res_lo) + excess_un / max(model.contact_high, 1e-6)
            - BAND_SIGMAS * sd)
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
-    if box is None:  # the whole frame: its darkness budget (module notes)
+    if whole:  # the whole frame: its darkness budget (module notes)
         budget, sd_g = _budget(d, finite, model)
         # where the free surface reaches past half of full contact, the seeds cannot see
         # faint contact: the budget is the estimate when it holds clearly more

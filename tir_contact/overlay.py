@@ -79,7 +79,8 @@ def draw_tir_overlay(
         The frame's element rows (``element, front_edge_x_mm, front_peak_x_mm,
         front_peak_width_mm``).
     frame_row : mapping
-        The frame's row of ``frames.csv`` (``front_peak_x_mm``, ``contact_area_mm2``).
+        The frame's row of ``frames.csv`` (``front_peak_x_mm``, ``contact_area_mm2`` and,
+        written beside it, its error bar ``contact_area_low_mm2``-``_high_mm2``).
     mm_per_px : float
         Image scale, mm per pixel.
     max_dn : float, optional
@@ -122,7 +123,11 @@ def draw_tir_overlay(
                 _WHITE, 1, cv2.LINE_AA,
             )
     area = frame_row.get("contact_area_mm2", np.nan)
+    low = frame_row.get("contact_area_low_mm2", np.nan)
+    high = frame_row.get("contact_area_high_mm2", np.nan)
     text = f"{label}  area {area:.1f} mm2" if np.isfinite(area) else label
+    if np.isfinite(area) and np.isfinite(low) and np.isfinite(high):
+        text += f" ({low:.1f}-{high:.1f})"  # the error bar
     cv2.putText(img, text, (5, 16), cv2.FONT_HERSHEY_SIMPLEX, 0.5, _WHITE, 1, cv2.LINE_AA)
     return img
 

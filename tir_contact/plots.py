@@ -53,7 +53,8 @@ def plot_video_results(
 ) -> list[Path]:
     """Write the PNG plots of one video's results.
 
-    TIR view: ``contact.png`` (block contact area and contact ratio over time) and
+    TIR view: ``contact.png`` (block contact area with its error bar as a band, and contact
+    ratio over time) and
     ``elements.png`` (contact area, contact length and front-peak contrast per element over
     time). Side view: ``deflection.png`` (deflection angle and tip deflection per element).
 
@@ -81,7 +82,11 @@ def plot_video_results(
         a1, a2 = fig.subplots(2, 1, sharex=True)
         for ax in (a1, a2):
             _shade_full(ax, frames)
-        a1.plot(t_ms, frames["contact_area_mm2"], lw=1)
+        if {"contact_area_low_mm2", "contact_area_high_mm2"} <= set(frames):
+            a1.fill_between(t_ms, frames["contact_area_low_mm2"],
+                            frames["contact_area_high_mm2"], color="C0", alpha=0.25, lw=0,
+                            label="error bar (low-high)")
+        a1.plot(t_ms, frames["contact_area_mm2"], lw=1, label="contact area")
         a1.set_ylabel("real contact area (mm²)")
         a2.plot(t_ms, frames["contact_ratio"], lw=1, color="C1")
         a2.set_ylabel("contact ratio (–)")

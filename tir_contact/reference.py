@@ -44,6 +44,7 @@ import numpy as np
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
+from tir_contact.measure import ASSUMED_FULL_DARKNESS, correlation_area
 
 __all__ = [
     "CAMERA_MODES",
@@ -79,12 +80,88 @@ class FreeSurface:
         Diameter of the closing disc used.
     widest_px : float
         Widest candidate (twice its largest inscribed radius), px.
+    texture_sigma, texture_corr_px : float
+        Spread (relative) and correlation area (px) of the light's variation at scales
+        below :data:`TEXTURE_SCALE_PX` on the free surface (:func:`_texture`): what an
+        estimate continued over a contact cannot follow there.
     """
 
     image: np.ndarray
     candidates: np.ndarray
     size_px: int
     widest_px: float
+    texture_sigma: float = 0.0
+    texture_corr_px: float = 1.0
+
+
+#: Darkness below the closing that a contact reaches and a fold of the light need not:
+#: half the darkness of full contact (:data:`tir_contact.measure.ASSUMED_FULL_DARKNESS`).
+CORE_DARKNESS = ASSUMED_FULL_DARKNESS / 2
+#: Widest edge (px) of a contact candidate: its depth below the closing over the steepest
+#: quarter of its boundary's light gradient. A contact's edge is as sharp as the optics
+#: and the 1.5 px smoothing make it (Gaussian blur sigma s: sqrt(2 pi) s, 6.3 px for a
+#: 2 px lens blur); light that falls off or folds inside the lit zone does so over tens
+#: of pixels, and is not contact.
+MAX_EDGE_PX = 8.0
+
+
+def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
+           lit: np.ndarray) -> np.ndarray:
+    """The sharp-edged part of the candidates `cand`: each 8-connected region whose edge
+    width (:func:`_edge_widths`) is at most :data:`MAX_EDGE_PX`; of a soft region (light
+    falling off, a fold), the sharp regions darker than half of full contact inside it (a
+    contact that lies in the fold), with the soft region's pixels within
+    :data:`MARGIN_PX` of them."""
+    if not cand.any():
+        return cand
+    depth = closed - smooth
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = np.where(closed > 0, depth / np.maximum(closed, 1e-6), 0.0)
+    grad = _gradient(smooth)
+    n, lab = cv2.connectedComponents(cand.astype(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    keep = _edge_widths(lab, n, grad, depth, lit) <= MAX_EDGE_PX
+    keep[0] = False
+    out = keep[lab]
+    soft = cand & ~out
+    core = soft & (d > CORE_DARKNESS)
+    if core.any():
+        m, clab = cv2.connectedComponents(core.astype(np.uint8), connectivity=8,
+                                          ltype=cv2.CV_32S)
+        ck = _edge_widths(clab, m, grad, depth, lit) <= MAX_EDGE_PX
+        ck[0] = False
+        sharp_core = ck[clab]
+        if sharp_core.any():
+            near = cv2.dilate(sharp_core.astype(np.uint8), cv2.getStructuringElement(
+                cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
+            out |= near & soft
+    return out
+
+
+def _gradient(smooth: np.ndarray) -> np.ndarray:
+    """Magnitude of the light's gradient, grey values per px."""
+    gx = cv2.Sobel(smooth, cv2.CV_32F, 1, 0, ksize=3, scale=0.125)
+    gy = cv2.Sobel(smooth, cv2.CV_32F, 0, 1, ksize=3, scale=0.125)
+    return cv2.magnitude(gx, gy)
+
+
+def _edge_widths(lab: np.ndarray, n: int, grad: np.ndarray, depth: np.ndarray,
+                 lit: np.ndarray) -> np.ndarray:
+    """Edge width (px) of each labelled region (index = label): its median depth below the
+    closing over the median gradient on its lit boundary ring (0 for a
+    region without one: it is kept)."""
+    mask = (lab > 0).astype(np.uint8)
+    inner = cv2.erode(mask, np.ones((3, 3), np.uint8)).astype(bool)
+    ring = cv2.dilate(mask, np.ones((3, 3), np.uint8)).astype(bool) & ~inner & lit
+    owner = cv2.dilate(lab.astype(np.float32), np.ones((3, 3), np.uint8)).astype(np.int32)
+    widths = np.zeros(n)
+    for k in range(1, n):
+        on = ring & (owner == k)
+        if not on.any():
+            continue
+        g = float(np.median(grad[on]))
+        dk = float(np.median(depth[lab == k]))
+        widths[k] = dk / g if g > 0 else np.inf
+    return widths
 
 
 def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
@@ -170,6 +247,7 @@ def free_surface(
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(closed > 0, 1.0 - smooth / np.maximum(closed, 1e-6), 0.0)
         cand = _fill_holes(((d > candidate_darkness) & lit_mask).astype(np.uint8)).astype(bool)
+        cand = _sharp(cand, smooth, closed, lit_mask)
         widest = 0.0
         if cand.any():
             dist = cv2.distanceTransform(cand.astype(np.uint8), cv2.DIST_L2, 5)
@@ -202,7 +280,27 @@ def free_surface(
     _fit_over_contacts(surface, smooth, margin, near, lit_mask, widest)
     if contact_is == "bright":
         surface = (top - surface).astype(np.float32)
-    return FreeSurface(surface, cand, size, widest)
+    tex, tex_corr = _texture(smooth, lit_mask & ~margin)
+    return FreeSurface(surface, cand, size, widest, tex, tex_corr)
+
+
+#: Scale (Gaussian sigma, px) of the light field an estimate over a contact continues:
+#: twice the margin around the candidates.
+TEXTURE_SCALE_PX = 2 * MARGIN_PX
+
+
+def _texture(smooth: np.ndarray, free: np.ndarray) -> tuple[float, float]:
+    """Robust spread (1.4826 MAD) of ``smooth / field - 1`` on the `free` pixels, ``field``
+    the light smoothed over :data:`TEXTURE_SCALE_PX`, and its correlation area in px
+    (:func:`tir_contact.measure.correlation_area`)."""
+    if free.sum() < 100:
+        return 0.0, 1.0
+    field = cv2.GaussianBlur(smooth, (0, 0), TEXTURE_SCALE_PX)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(free & (field > 0), smooth / np.maximum(field, 1e-6) - 1.0, np.nan)
+    values = t[np.isfinite(t)]
+    sigma = float(1.4826 * np.median(np.abs(values - np.median(values))))
+    return sigma, correlation_area([t.astype(np.float32)], float(np.median(values)), sigma)
 
 
 #: Contacts (largest first) whose free surface is fitted by a quadratic; the rest keep the
@@ -414,6 +512,10 @@ class TirReference:
         How the free surface was made, in words (for ``summary.json``).
     noise : NoiseModel
         Grey-value noise of the free surface.
+    texture_sigma, texture_corr_px : float
+        Free surface estimated from the image (a static scene): the light's variation the
+        estimate cannot follow over a contact (:attr:`FreeSurface.texture_sigma`); 0 and 1
+        when frames show the free surface.
     """
 
     reference: Reference
@@ -421,6 +523,8 @@ class TirReference:
     camera: str
     method: str
     noise: NoiseModel
+    texture_sigma: float = 0.0
+    texture_corr_px: float = 1.0
 
 
 def _median(frames: list[np.ndarray]) -> np.ndarray:
@@ -525,6 +629,7 @@ def tir_reference(
     if image is not None:
         free = np.asarray(image, np.float32)
         mode, method, cand = "fixed", "file", np.zeros(shape, bool)
+        tex = (0.0, 1.0)
     else:
         mode = camera
         if mode == "auto":
@@ -532,6 +637,7 @@ def tir_reference(
                 frames, median, bright, mask, min_darkness, min_block_fraction, contact_is)
                     else "follows")
         cand = np.zeros(shape, bool)
+        tex = (0.0, 1.0)
         if mode == "fixed" and len(frames) >= 5:
             free, method = bright, "percentile"
             # does the percentile image still hold the block (a slow pass)? One closing
@@ -548,6 +654,7 @@ def tir_reference(
         else:
             fs = free_surface(median, mask, contact_is=contact_is)
             free, cand = fs.image, fs.candidates
+            tex = (fs.texture_sigma, fs.texture_corr_px)
             method = (f"fitted free surface ({len(frames)} frame(s); closing "
                       f"{fs.size_px} px)")
     if contact_is == "bright" and find_lit:
@@ -566,7 +673,7 @@ def tir_reference(
     away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
     noise = noise_model(_residuals(frames, free), free, away)
     ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))
-    return TirReference(ref, lit, mode, method, noise)
+    return TirReference(ref, lit, mode, method, noise, *tex)
 
 
 def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0) -> TirReference:

@@ -31,13 +31,13 @@ import cv2
 import numpy as np
 from scipy.stats import norm
 
-from tir_contact._darkness import BoxDarkness, ContactTest, Normaliser
+from tir_contact._darkness import BoxDarkness, ContactTest, Normaliser, RawContactTest
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact._readers import FootageError
 from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import lit_zone_from_file
-from tir_contact.measure import AreaModel, area_model, frame_area
+from tir_contact.measure import EDGE_PX, ZONE_PX, AreaModel, FrameArea, area_model, frame_area
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
 from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
@@ -105,6 +105,9 @@ class TirView:
         # pixels too noisy for the threshold are not measured
         tref = measurable(tref, threshold, n_sigma=options.noise_sigmas)
         model = cls.population_model(samples, tref, contact_is, options)
+        # the decision where the two populations separate (tir_contact.measure): half
+        # the darkness of full contact, at least the free surface's reach
+        threshold, contrast = model.threshold, model.contact_darkness
         return cls(tref, contrast, threshold, model, ref_fit), notes + model.notes
 
     @staticmethod
@@ -150,6 +153,7 @@ class TirFrames:
         self._test = ContactTest(self.normalise, view.threshold)
         self._box = BoxDarkness(self.normalise, setup.shape)
         self._valid_counts = ValidCounts()  # the reference's mask is fixed within a video
+        self._seed_tests: dict[str, RawContactTest | None] = {}  # by dtype character
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, FrameContact, tuple | None]:
         """Steps 1 to 3: the darkness (in the box, NaN elsewhere), the contact, and the
@@ -205,6 +209,12 @@ class TirFrames:
         :data:`~tir_contact.features.EDGE_MARGIN_PX` columns) and NaN elsewhere; `contact`
         is the segmentation (``contact.box``, ``contact.box_labels``); the video's setup is
         ``self.setup``, its model ``self.view.area_model``.
+
+        A fixed camera whose free surface separates from contact: only the box around the
+        seed pixels (found on the raw grey values, :class:`RawContactTest` at the model's
+        per-pixel seed level) and the contact, grown by the zone around contact, is read;
+        otherwise (a static scene, or a free surface that reaches past half of full
+        contact) the whole frame, whose darkness budget then counts.
         """
         model = self.view.area_model
         px2 = self.setup.mm_per_px ** 2
@@ -212,10 +222,34 @@ class TirFrames:
             area = row["contact_area_mm2"]
             row["contact_area_low_mm2"] = row["contact_area_high_mm2"] = area
             return
-        a = frame_area(self.normalise(frame), model)
+        a = None
+        if not model.static and model.separation > 1.0:
+            test = self._seed_test(frame)
+            if test is not None:
+                seeds = test(frame)
+                box = _union(_box_and_counts(seeds)[0], contact.box, frame.shape, ZONE_PX
+                             + EDGE_PX + 1)
+                if box is None:
+                    a = FrameArea(0.0, 0.0, 0.0, 0, 0.0)
+                else:
+                    a = frame_area(self.normalise.region(frame, *box), model, box,
+                                   _labels_in(contact, box, self.view.threshold
+                                              == model.threshold))
+        if a is None:
+            a = frame_area(self.normalise(frame), model)
         row["contact_area_mm2"] = a.area_px * px2
         row["contact_area_low_mm2"] = a.low_px * px2
         row["contact_area_high_mm2"] = a.high_px * px2
+
+    def _seed_test(self, frame: np.ndarray) -> RawContactTest | None:
+        """The model's seed level as a test of the raw grey values (per dtype)."""
+        key = frame.dtype.char
+        test = self._seed_tests.get(key, False)
+        if test is False:
+            test = RawContactTest.build(self.normalise, self.view.area_model.seed,
+                                        frame.dtype)
+            self._seed_tests[key] = test
+        return test
 
     def _at_rim(self, contact: FrameContact) -> np.ndarray:
         """Which regions (index = label, 0 unused) touch the rim of the lit zone."""
@@ -224,6 +258,33 @@ class TirFrames:
             out[contact.box_labels[self._rim[contact.box]]] = True
             out[0] = False
         return out
+
+
+def _labels_in(contact: FrameContact, box: tuple[slice, slice],
+               same: bool) -> tuple[np.ndarray, int] | None:
+    """The segmentation's region labels placed in `box` (which holds the contact's box),
+    when it segmented at the measurement's threshold (`same`)."""
+    if not same:
+        return None
+    lab = np.zeros((box[0].stop - box[0].start, box[1].stop - box[1].start), np.int32)
+    if contact.box is not None and contact.box_labels is not None:
+        r, c = contact.box
+        lab[r.start - box[0].start:r.stop - box[0].start,
+            c.start - box[1].start:c.stop - box[1].start] = contact.box_labels
+    return lab, contact.n_regions + 1
+
+
+def _union(a: tuple[slice, slice] | None, b: tuple[slice, slice] | None,
+           shape: tuple[int, int], grow: int) -> tuple[slice, slice] | None:
+    """The box holding boxes `a` and `b` (either may be None), grown by `grow` px."""
+    boxes = [x for x in (a, b) if x is not None]
+    if not boxes:
+        return None
+    r0 = max(min(x[0].start for x in boxes) - grow, 0)
+    r1 = min(max(x[0].stop for x in boxes) + grow, shape[0])
+    c0 = max(min(x[1].start for x in boxes) - grow, 0)
+    c1 = min(max(x[1].stop for x in boxes) + grow, shape[1])
+    return slice(r0, r1), slice(c0, c1)
 
 
 def _tir_assumptions(t: TirReference) -> dict[str, Any]:
@@ -281,7 +342,8 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     sigma = tref.noise.sigma_darkness(tref.reference.image)
     return area_model(darkness, sigma, contrast=options.contrast,
                       min_cluster_px=options.min_area_px,
-                      static=tref.camera == "follows")
+                      static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
+                      zone_corr_px=tref.texture_corr_px)
 
 
 def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:
