@@ -76,6 +76,8 @@ MIN_FULL_PX = 9
 MAX_PLATEAU_SPREAD = 1.0
 #: Expected free-surface pixels per frame above the seed threshold.
 FALSE_SEEDS_PER_FRAME = 0.05
+#: Sampled frames the free surface's statistics are taken from, at most.
+MAX_FREE_FRAMES = 8
 #: Free-surface values the statistics are taken from, at most (an even subsample).
 MAX_FREE_VALUES = 200_000
 #: Side of the blocks whose means give the free surface's correlation area, px.
@@ -339,14 +341,16 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     sigma_noise = np.asarray(sigma_noise, np.float32)
     # twice: away from half of full contact, then away from the first pass's reach too
     # (contact too faint for a core shifts the median otherwise)
-    b, texture, corr, n_free, mean, sd_all = _free_statistics(samples, sigma_noise)
+    # the free surface from at most MAX_FREE_FRAMES of the samples, spread through them
+    few = samples[::max(1, math.ceil(len(samples) / MAX_FREE_FRAMES))]
+    b, texture, corr, n_free, mean, sd_all = _free_statistics(few, sigma_noise)
     first = b + float(norm.isf(FALSE_SEEDS_PER_FRAME / max(
         int(np.isfinite(samples[0]).sum()), 1))) * math.hypot(
         texture, float(np.nanmedian(sigma_noise)) if np.isfinite(sigma_noise).any() else 0.0)
     if math.isfinite(first) and first < ASSUMED_FULL_DARKNESS / 2:
         # the mean and the spread of the whole free surface (dust and bubbles included,
         # which the second pass would cut away with faint contact) stay the first pass's
-        b, texture, corr, n_free, _, _ = _free_statistics(samples, sigma_noise, first)
+        b, texture, corr, n_free, _, _ = _free_statistics(few, sigma_noise, first)
     n_lit = max(int(np.isfinite(samples[0]).sum()), 1) if samples else 1
     z = float(norm.isf(FALSE_SEEDS_PER_FRAME / n_lit))
     with np.errstate(invalid="ignore"):
