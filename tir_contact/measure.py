@@ -347,10 +347,12 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         c, c_lo, c_hi, source = float(contrast), float(contrast), float(contrast), "given"
     else:
         values = _interiors(samples, max(ASSUMED_FULL_DARKNESS / 2, reach))
-        if values.size < MIN_FULL_PX and reach < ASSUMED_FULL_DARKNESS / 2:
+        if values.size < MIN_FULL_PX and reach < ASSUMED_FULL_DARKNESS / 2 and not static:
             # weaker contact: resolved regions above the free surface's reach whose
             # darkness is a plateau (full contact seen with stray light), not a spread
-            # reaching down to the free surface (partial contact below the resolution)
+            # reaching down to the free surface (partial contact below the resolution);
+            # not in a static scene, whose free surface keeps the ice's dust, bubbles and
+            # scratches dark (they take up to a third of the light, as a plateau too)
             low = _interiors(samples, float(np.nextafter(np.float32(reach), np.float32(1))))
             if low.size >= MIN_FULL_PX:
                 q10, q50, q90 = np.percentile(low, [10.0, 50.0, 90.0])
@@ -370,7 +372,10 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                 f"of darkness): the contact area is the darkness fraction "
                 f"against an assumed full-contact darkness of {c:g} (range {c_lo:g}-"
                 f"{c_hi:g}); give --contrast with the darkness of full contact of your "
-                "setup if it has stray light")
+                "setup if it has stray light"
+                + ("; in this static scene faint dark spots may as well be the ice's dust, "
+                   "bubbles or scratches: the error bar reaches down to no contact" if static
+                   else ""))
     threshold = max(c / 2, reach)
     separation = ((c / 2 - b) / (reach - b)) if reach > b else math.inf
     if separation <= 1.0:
@@ -428,7 +433,10 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     inside = seeds & np.isfinite(d)
     excess = np.bincount(lab[inside], weights=d[inside] - model.offset, minlength=n)
     size = np.bincount(lab[inside], minlength=n)
-    noise = model.sigma_free * np.sqrt(np.maximum(size, 1) * model.corr_px)
+    # a static scene's free surface keeps its dust, bubbles and scratches: a cluster is
+    # weighed against the free surface's whole spread (them included), not its noise
+    sigma = max(model.sd_free, model.sigma_free) if model.static else model.sigma_free
+    noise = sigma * np.sqrt(np.maximum(size, 1) * model.corr_px)
     z = (model.seed_median - model.offset) / max(model.sigma_free, 1e-9)
     keep = (size >= model.min_cluster_px) & (excess > z * noise)
     keep[0] = False
@@ -584,6 +592,11 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     area = part_res + excess_un / c
     low = (min(part_res, res_lo) + excess_un / max(model.contact_high, 1e-6)
            - BAND_SIGMAS * sd)
+    if model.static and model.contact_source == "assumed" and not resolved.any():
+        # a static scene with no resolved contact: its faint dark spots may as well be the
+        # ice's dust, bubbles and scratches, which its free surface keeps: the bar reaches
+        # down to no contact at all
+        low = 0.0
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
     if whole:  # the whole frame: its darkness budget (module notes)
