@@ -20,6 +20,10 @@ from friction_model.identification.coupling import (
     lever_arm_observations,
 )
 
+# one worker renders clip_truth (a block-dynamics simulation of ~20 s) for every test that
+# uses it (pyproject: --dist loadgroup)
+pytestmark = pytest.mark.xdist_group("coupling_clip_truth")
+
 L_G3 = 4.55e-3  # m, element length of G3
 TRUE_E = {"e1": 12.0, "e2_per_rad": 28.0}
 
