@@ -129,10 +129,13 @@ def test_additive_constant_shear_names_no_wrong_effect(base, seed):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "known weakness: at 4 kPa, after viscous_shear carries part of a constant additive "
-    "shear, the remainder (largest relative to the low mu of siped blocks) looks like "
-    "ice_preheating on this grid, which is then named too (seeds 0 and 2 of 4)"))
-def test_additive_constant_shear_of_moderate_size_names_no_wrong_effect(base):
-    result = run_discrepancy(SteadyProblem(measured(base, 0, add=constant_shear(4e3))), seed=0)
+@pytest.mark.parametrize(("tau_Pa", "seed"), [(4e3, 0), (4e3, 2), (3e3, 1), (6e3, 3)])
+def test_additive_constant_shear_of_moderate_size_names_no_wrong_effect(base, tau_Pa, seed):
+    # 4 kPa, seeds 0 and 2: viscous_shear carries part of the constant shear and the rest
+    # (largest relative to the low mu of siped blocks) looked like ice_preheating, named
+    # second; a second effect is now named only if both together fit to the noise
+    # (run_discrepancy's ADEQUACY_LEVEL). 3 and 6 kPa on other seeds: not tuned on.
+    result = run_discrepancy(
+        SteadyProblem(measured(base, seed, add=constant_shear(tau_Pa))), seed=seed
+    )
     check(result, allowed={"viscous_shear"}, covariate=None)
