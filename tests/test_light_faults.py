@@ -159,3 +159,22 @@ def test_cli_light_fault_flags_reach_the_renderer(run_cli, tree_bytes, tmp_path,
     capsys.readouterr()
     assert run_cli([*argv[:-2], "--stray-light", "1.5", "--out", str(tmp_path / "bad")]) != 0
     assert "stray_light" in capsys.readouterr().err
+
+
+def test_stray_light_lifts_full_contact_of_a_physical_scene():
+    """Rough pad (contact solver and FTIR optics): full contact is ~0.98 dark without stray
+    light; with it every grey rises by stray * white_level of full scale, so the darkest
+    contact is at most 1 / (1 + stray) as dark as before."""
+    pytest.importorskip("tamaas", reason="the contact extra")
+    stray = 0.15
+    spec = FootageSpec(scene="rough_pad", pad_radius_mm=0.3, n_frames=1, noise=False, seed=2,
+                       camera=CameraSettings(mm_per_px=0.01, width_px=96, height_px=96,
+                                             bit_depth=16, white_level=0.7))
+    plain, truth = _frame(spec)
+    lit, truth_s = _frame(dataclasses.replace(
+        spec, camera=dataclasses.replace(spec.camera, stray_light=stray)))
+    assert np.abs(lit - plain - stray * 0.7 * 65535).max() <= 1.0
+    free = np.median(plain)  # the pad covers a tenth of the frame
+    assert 1 - plain.min() / free > 0.9  # the renderer's full contact: nearly black
+    assert 1 - lit.min() / np.median(lit) < (1 - plain.min() / free) / (1 + stray) + 0.02
+    pd.testing.assert_frame_equal(truth, truth_s)
