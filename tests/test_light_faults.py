@@ -44,6 +44,12 @@ def test_fold_darkens_its_band_by_the_requested_factor_and_nothing_else():
     assert np.mean(ratio[:, core]) == pytest.approx(1 - depth, abs=1e-3)
     assert np.abs(ratio[:, core] - (1 - depth)).max() < 2e-3
     assert np.abs(ratio[:, clear] - 1.0).max() < 1e-3
+    # the documented raised cosine is point-symmetric about the edge's middle: the columns
+    # at +-0.05 mm from it average to half the depth
+    mid = 0.5 * width + 0.5 * edge
+    pair = np.abs(np.abs(np.abs(x - x0) - mid) - 0.05) < 1e-6
+    assert pair.sum() == 4  # two each side of the fold
+    assert np.mean(ratio[:, pair]) == pytest.approx(1 - 0.5 * depth, abs=1e-3)
     inside_edge = ~core & ~clear
     assert np.all((ratio[:, inside_edge] > 1 - depth - 1e-3) & (ratio[:, inside_edge] < 1 + 1e-3))
     pd.testing.assert_frame_equal(truth, truth_f)  # light, not contact
