@@ -22,6 +22,17 @@ Three parts (each can be skipped):
    contact), their own case classes in ``validation_physical.md``; the truth is the true
    contact area (gap 0). No target yet: this is the world the segmentation is to be judged
    on next.
+2c. *Contact area as a measurement* (issue 21; written as ``validation_measurement.md``):
+   for the physical classes and the domain, the area error's median and 95th percentile
+   and the share of frames whose true area lies in the pipeline's error bar
+   ``[contact_area_low_mm2, contact_area_high_mm2]`` (n/a where ``frames.csv`` has no such
+   columns); ``--load-series``: a rough pad on a textured field at 0.5/1/2/4 bar, the
+   intercept at zero load of the line through (load, measured area) over the lowest load's
+   area; ``--table``: the renders of issue 21's table (:mod:`synthetic.table`; the three
+   contacts with a fold with and without the scene's own empty frame as ``--reference``,
+   the round pad, the smooth sphere, the bright patches, and a rough pad under stray light).
+   Targets (``MEASUREMENT_TARGETS``): area median <= 2 %, p95 <= 8 %, truth in the bar in
+   >= 90 % of frames, |intercept| < 20 %.
 3. *Fixed thesis cases* (``--fixed``): the renderer's default camera (0.1 mm/px,
    640 x 256 px, 4000 frames/s, noise, motion blur, uneven illumination, bubbles and
    scratches) for G0, G3 and G7 at 1 and 3 m/s, TIR and side view:
@@ -32,7 +43,8 @@ Three parts (each can be skipped):
 * side view: median absolute error of the deflection angle (<= 0.5 deg).
 
 Run: ``python examples/validate_pipeline.py [--out validation-out] [--domain 200]
-[--physical 12] [--seed 0] [--workers 2] [--no-ratio] [--no-fixed] [--frames 400]``.
+[--physical 12] [--seed 0] [--workers 2] [--no-ratio] [--no-fixed] [--frames 400]
+[--table] [--no-load-series]``.
 """
 
 from __future__ import annotations
@@ -49,11 +61,14 @@ import pandas as pd
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _domain_validation import (
+    MEASUREMENT_TARGETS,
     angle_errors,
     element_pairs,
     length_errors,
+    load_series,
     summarise,
     validate_clip,
+    validate_table_clip,
 )
 
 from friction_model.geometry import reference_block
@@ -153,6 +168,81 @@ def _markdown(summary: pd.DataFrame, n: int, seed: int, title: str | None = None
     return "\n".join(lines) + "\n"
 
 
+def table_cases(seed: int = 0, n_frames: int = 6,
+                physical: bool = True) -> list[tuple[str, FootageSpec, bool]]:
+    """The "table" set: (name, spec, with the scene's own empty frame as reference) for each
+    render of issue 21's table, the fold scene twice (without and with the reference), and
+    (``physical``, needs the contact extra) a rough pad under 15 % stray light."""
+    import dataclasses
+
+    from _domain_validation import load_series_spec
+
+    from synthetic.table import TABLE_NAMES, table_specs
+
+    specs = table_specs(seed, n_frames=n_frames)
+    cases = [(name, specs[name], False) for name in TABLE_NAMES]
+    cases.append(("three points, fold", specs["three points, fold"], True))
+    if physical:
+        pad = load_series_spec(1.0, n_frames=min(n_frames, 3))
+        cases.append(("rough pad, stray light 0.15", dataclasses.replace(
+            pad, camera=dataclasses.replace(pad.camera, stray_light=0.15)), False))
+    return cases
+
+
+def run_table(out: Path, seed: int, workers: int, *, physical: bool = True) -> pd.DataFrame:
+    """Validate the "table" set (:func:`table_cases`); writes ``validation_table.csv``."""
+    cases = table_cases(seed, physical=physical)
+    with ProcessPoolExecutor(max(1, workers)) as pool:
+        futures = [pool.submit(validate_table_clip, n, s, reference=r) for n, s, r in cases]
+        table = pd.DataFrame([f.result() for f in futures])
+    if "frames_scored" in table:
+        table["in_band_pct"] = 100 * table.frames_in_band / table.frames_scored
+    table.to_csv(out / "validation_table.csv", index=False)
+    return table
+
+
+def _pct(value) -> str:
+    return "n/a" if value is None or pd.isna(value) else f"{value:.1f}"
+
+
+def measurement_markdown(summaries: dict[str, pd.DataFrame], table: pd.DataFrame | None,
+                         series: tuple[pd.DataFrame, dict] | None) -> str:
+    """Issue 21's measurement table: per class (of each summary), per table render and the
+    load series, with the targets."""
+    t = MEASUREMENT_TARGETS
+    lines = ["Contact area as a measurement (issue 21). Targets: area error median <= "
+             f"{t['area_err_pct median']:g} %, p95 <= {t['area_err_pct p95']:g} %, true area "
+             f"in [low, high] in >= {t['in_band_pct']:g} % of frames, load-series |intercept| "
+             f"< {t['intercept_pct']:g} % of the lowest load's area.", "",
+             "| set | case | clips | area error median, % | area error p95, % | "
+             "truth in [low, high], % of frames |", "|---|---|---|---|---|---|"]
+    for name, summary in summaries.items():
+        for row in summary.to_dict("records"):
+            lines.append(f"| {name} | {row['case']} | {row['clips']} | "
+                         f"{_pct(row.get('area_err_pct median'))} | "
+                         f"{_pct(row.get('area_err_pct p95'))} | {_pct(row.get('in_band_pct'))} |")
+    if table is not None:
+        lines += ["", "Renders of issue 21's table (synthetic.table):", "",
+                  "| image | true area, mm2 | measured, mm2 | bar (mean low / high), mm2 | "
+                  "area error, % | truth in bar, % of frames | warnings |",
+                  "|---|---|---|---|---|---|---|"]
+        for row in table.to_dict("records"):
+            bar = (f"{row['low_mm2']:.2f} / {row['high_mm2']:.2f}" if "low_mm2" in row
+                   and not pd.isna(row["low_mm2"]) else "n/a")
+            lines.append(f"| {row['case']} | {row['true_area_mm2']:.3f} | "
+                         f"{row['measured_mm2']:.3f} | {bar} | {row['area_err_pct']:.1f} | "
+                         f"{_pct(row.get('in_band_pct'))} | {row['warnings'] or '-'} |")
+    if series is not None:
+        frame, fit = series
+        lines += ["", "Load series (rough pad on a textured field, no empty frame):", "",
+                  "| load, bar | true area, mm2 | measured, mm2 |", "|---|---|---|"]
+        lines += [f"| {r['pressure_bar']:g} | {r['true_area_mm2']:.4f} | "
+                  f"{r['measured_mm2']:.4f} |" for r in frame.to_dict("records")]
+        lines += ["", f"Intercept at zero load: measured {fit['intercept_pct']:.1f} % of the "
+                  f"lowest load's area (truth {fit['true_intercept_pct']:.1f} %)."]
+    return "\n".join(lines) + "\n"
+
+
 def run_ratio(out: Path) -> pd.DataFrame:
     """Contact ratio of rendered patchy G0-G7 footage against the model's."""
     rows = []
@@ -198,6 +288,33 @@ def run_fixed(out: Path, frames: int) -> pd.DataFrame:
     return table
 
 
+def _measurement(args: argparse.Namespace, summaries: dict[str, pd.DataFrame]) -> None:
+    """The table set, the load series and ``validation_measurement.md``."""
+    table = series = None
+    if args.load_series:
+        from synthetic.roughness import MissingExtraError, require_tamaas
+
+        try:
+            require_tamaas()
+        except MissingExtraError as exc:
+            print(f"load series and stray-light render skipped: {exc}")
+            args.load_series = False
+    if args.table:
+        print("renders of issue 21's table")
+        table = run_table(args.out, args.seed, args.workers, physical=args.load_series)
+        print(table.drop(columns="warnings").round(3).to_string(index=False))
+    if args.load_series:
+        series = load_series()
+        series[0].to_csv(args.out / "validation_load_series.csv", index=False)
+        print(series[0].round(4).to_string(index=False))
+        print(f"load-series intercept {series[1]['intercept_pct']:.1f} % of the lowest load's "
+              f"area (truth {series[1]['true_intercept_pct']:.1f} %; target |.| < "
+              f"{MEASUREMENT_TARGETS['intercept_pct']:g} %)")
+    if summaries or table is not None or series is not None:
+        (args.out / "validation_measurement.md").write_text(
+            measurement_markdown(summaries, table, series))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path("validation-out"))
@@ -211,13 +328,19 @@ def main() -> None:
     ap.add_argument("--ratio", action=argparse.BooleanOptionalAction, default=True)
     ap.add_argument("--fixed", action=argparse.BooleanOptionalAction, default=True)
     ap.add_argument("--frames", type=int, default=400)
+    ap.add_argument("--table", action=argparse.BooleanOptionalAction, default=False,
+                    help="the renders of issue 21's table (synthetic.table)")
+    ap.add_argument("--load-series", action=argparse.BooleanOptionalAction, default=True,
+                    help="rough pad at 0.5/1/2/4 bar (needs the contact extra)")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     pd.set_option("display.width", 200)
     pd.set_option("display.max_columns", 20)
+    summaries: dict[str, pd.DataFrame] = {}
     if args.domain > 0:
         print(f"random real-footage domain: {args.domain} clips (seed {args.seed})")
-        summary = run_domain(args.domain, args.seed, args.workers, args.out)
+        summary = summaries["domain"] = run_domain(args.domain, args.seed, args.workers,
+                                                   args.out)
         print(summary.round(3).to_string(index=False))
         overall = summary[summary.case == "all"].iloc[0]
         print("targets:", ", ".join(
@@ -225,8 +348,10 @@ def main() -> None:
             f"({overall.get(k, np.nan):.3f})" for k, t in DOMAIN_TARGETS.items()))
     if args.physical > 0:
         print(f"physical world: {args.physical} clips (seed {args.seed})")
-        summary = run_domain(args.physical, args.seed, args.workers, args.out, physical=True)
+        summary = summaries["physical"] = run_domain(args.physical, args.seed, args.workers,
+                                                     args.out, physical=True)
         print(summary.round(3).to_string(index=False))
+    _measurement(args, summaries)
     if args.ratio:
         table = run_ratio(args.out)
         print("contact ratio of rendered patchy footage against the model (target 0.05):")

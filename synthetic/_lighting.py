@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-__all__ = ["LIT_SHAPES", "lit_distance", "lit_factor", "lit_zone_size"]
+__all__ = ["LIT_SHAPES", "fold_factor", "lit_distance", "lit_factor", "lit_zone_size"]
 
 logger = logging.getLogger(__name__)
 
@@ -156,3 +156,59 @@ def lit_factor(
     t = np.clip(0.5 + distance_mm / rim, 0.0, 1.0)
     s = t * t * (3.0 - 2.0 * t)
     return (outside + (1.0 - outside) * s).astype(np.float32)
+
+
+def fold_factor(
+    height_px: int,
+    width_px: int,
+    *,
+    mm_per_px: float,
+    x_mm: float,
+    width_mm: float,
+    edge_mm: float,
+    depth: float,
+) -> np.ndarray:
+    """Light factor of a darker fold across the lit zone: a band along y where the light
+    falls steeply to ``1 - depth``.
+
+    The band's flat core holds the columns whose centre lies within ``width_mm / 2`` of
+    the line ``x = W/2 + x_mm`` (mm from the image centre); over ``edge_mm`` on each side
+    the light rises back to 1 along a raised cosine (a fold in a prism's coating, a
+    crease of a light guide). The factor multiplies the illumination (free surface and
+    contact alike), it is a property of the light, not of the contact.
+
+    Assumes: the fold is straight and parallel to the image's y axis, its depth is the
+    same along its length, and it is fixed to the camera.
+
+    Parameters
+    ----------
+    height_px, width_px : int
+    mm_per_px : float
+    x_mm : float
+        Centre line of the fold from the image centre along x, mm.
+    width_mm : float
+        Width of its flat core, mm.
+    edge_mm : float
+        Width of each edge (the fall-off), mm; 0: a step.
+    depth : float
+        Share of the light lost in the core, in [0, 1).
+
+    Returns
+    -------
+    (H, W) ndarray of float32
+
+    Examples
+    --------
+    >>> f = fold_factor(4, 10, mm_per_px=1.0, x_mm=0.0, width_mm=2.0, edge_mm=0.0, depth=0.5)
+    >>> f[0].tolist()
+    [1.0, 1.0, 1.0, 1.0, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0]
+    """
+    x = (np.arange(width_px, dtype=np.float64) + 0.5) * mm_per_px
+    outside = np.abs(x - (0.5 * width_px * mm_per_px + x_mm)) - 0.5 * width_mm
+    if edge_mm > 0.0:
+        t = np.clip(outside / edge_mm, 0.0, 1.0)
+        dark = 0.5 * (1.0 + np.cos(math.pi * t))
+    else:
+        dark = (outside <= 0.0).astype(np.float64)
+    row = (1.0 - depth * dark).astype(np.float32)
+    return np.broadcast_to(row, (height_px, width_px)).copy()

@@ -98,7 +98,7 @@ from synthetic._camera import (
     interval_coverage,
     max_dn,
 )
-from synthetic._lighting import LIT_SHAPES, lit_distance, lit_factor, lit_zone_size
+from synthetic._lighting import LIT_SHAPES, fold_factor, lit_distance, lit_factor, lit_zone_size
 from synthetic._physical import PHYSICAL_SCENES, PhysicalSetup, render_physical, scene_contact
 from synthetic._physical_block import BinIntegrals, PhysicalBlock, physical_fractions
 from synthetic._real_contact import (
@@ -222,6 +222,11 @@ _CAMERA_REAL_DEFAULTS: dict[str, Any] = {
     "outside_level": 0.05,
     "jpeg_quality": None,
     "optical_blur_mm": 0.0,
+    "fold_depth": 0.0,
+    "fold_x_mm": 0.0,
+    "fold_width_mm": 1.0,
+    "fold_edge_mm": 0.3,
+    "stray_light": 0.0,
 }
 #: Side-view fields and their defaults (left out of ``FootageSpec.to_dict`` at them).
 _SIDE_DEFAULTS: dict[str, Any] = {"holder": "carrier"}
@@ -336,6 +341,23 @@ class CameraSettings:
         "rough_pad", "rough_sphere"), which draw contact finer than a pixel. 0: an ideal
         lens. A lens at f/4 and 550 nm resolves about 3 um on the sensor; at 0.01 mm/px
         and a 1:1 image, 0.003.
+    fold_depth : float
+        TIR view: share of the light lost in a darker fold across the lit zone (a band
+        along y where the light falls off steeply; the profile of
+        ``synthetic._lighting.fold_factor``), in [0, 1); 0 (default): no fold. Light
+        only: the truth is unchanged.
+    fold_x_mm : float
+        Centre line of the fold from the image centre along x, mm, in [-1e4, 1e4].
+    fold_width_mm : float
+        Width of the fold's flat core, mm, in [0, 1e4]; 1.
+    fold_edge_mm : float
+        Width of each of the fold's edges (the fall-off), mm, in [0, 1e4]; 0.3.
+    stray_light : float
+        TIR view: stray light (flare, a camera black offset) added uniformly to the
+        reflected light, fraction of ``white_level``, scaled by the lit zone's light factor,
+        in [0, 1); 0 (default): none. With it, full contact is no longer nearly black:
+        its darkness falls from ``1 - R_contact`` to ``(1 - R_contact) / (1 + stray_light)``
+        at the centre of an evenly lit frame.
     """
 
     fps: float = 4000.0
@@ -363,6 +385,11 @@ class CameraSettings:
     outside_level: float = 0.05
     jpeg_quality: int | None = None
     optical_blur_mm: float = 0.0
+    fold_depth: float = 0.0
+    fold_x_mm: float = 0.0
+    fold_width_mm: float = 1.0
+    fold_edge_mm: float = 0.3
+    stray_light: float = 0.0
 
     def __post_init__(self) -> None:
         put = functools.partial(object.__setattr__, self)
@@ -427,6 +454,11 @@ class CameraSettings:
             "optical_blur_mm",
             check_number("optical_blur_mm", self.optical_blur_mm, low=0.0, high=10.0, unit="mm"),
         )
+        for name, low, high in (("fold_x_mm", -1e4, 1e4), ("fold_width_mm", 0.0, 1e4),
+                                ("fold_edge_mm", 0.0, 1e4)):
+            put(name, check_number(name, getattr(self, name), low=low, high=high, unit="mm"))
+        for name in ("fold_depth", "stray_light"):
+            put(name, check_number(name, getattr(self, name), low=0.0, high=1.0, high_open=True))
         if self.jpeg_quality is not None:
             put("jpeg_quality", _integer("jpeg_quality", self.jpeg_quality, 1, 100))
             if self.bit_depth != 8:
@@ -767,6 +799,8 @@ class FootageSpec:
                 ("scene", self.scene, "block"),
                 ("real_contact", self.real_contact, "solid"),
                 ("camera.lit_shape", self.camera.lit_shape, "full"),
+                ("camera.fold_depth", self.camera.fold_depth, 0.0),
+                ("camera.stray_light", self.camera.stray_light, 0.0),
             ):
                 if value != default:
                     raise ValueError(
@@ -1419,6 +1453,15 @@ class _Clip:
         dust = dust_field(cam.height_px, cam.width_px, n_dust=cam.n_dust, rng=scene_rng)
         level = np.float32(cam.white_level)
         self.lit = lit_zone(spec)
+        if cam.fold_depth > 0.0:  # skipped at 0: clips without a fold stay byte-identical
+            illum = illum * fold_factor(
+                cam.height_px, cam.width_px, mm_per_px=cam.mm_per_px, x_mm=cam.fold_x_mm,
+                width_mm=cam.fold_width_mm, edge_mm=cam.fold_edge_mm, depth=cam.fold_depth,
+            )
+        #: stray light added to every frame's signal (None without it)
+        self.stray: np.ndarray | None = None
+        if cam.stray_light > 0.0:
+            self.stray = (cam.stray_light * level * self.lit.factor).astype(np.float32)
         self.ice_canvas: _IceCanvas | None = None
         if spec.view == "tir":
             self._init_tir_background(level, illum, dust, scene_rng)
@@ -2075,6 +2118,8 @@ class _Clip:
     def image(self, k: int) -> tuple[np.ndarray, pd.DataFrame, bytes | None]:
         """Frame k: the image, its ground truth and its JPEG bytes (None without JPEG)."""
         sig, table = self.signal(k)
+        if self.stray is not None:
+            sig = sig + self.stray
         img = self.sensor(sig, self.noise_rng(k))
         quality = self.spec.camera.jpeg_quality
         if quality is None:

@@ -20,6 +20,7 @@ import pandas as pd
 import pytest
 
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames, render_footage
+from synthetic.table import empty_reference
 from tir_contact.analyze import analyze_video
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference_fit import MAX_NOISE_RATIO, fit_reference
@@ -29,8 +30,6 @@ SMALL_CAMERA = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128)
 
 #: Exposure of the empty frame relative to the footage.
 EXPOSURE = 0.87
-#: Contact centres far outside the view: the same scene without contact.
-_OUT_OF_VIEW = ((500.0, 500.0), (600.0, 600.0), (700.0, 700.0))
 
 
 def _spec(lit_shape: str = "disc", **fields) -> FootageSpec:
@@ -48,14 +47,7 @@ def _spec(lit_shape: str = "disc", **fields) -> FootageSpec:
 def _empty_frame(spec: FootageSpec, shift_px: tuple[float, float], path: Path) -> Path:
     """The scene of `spec` without contact at ``EXPOSURE`` times its light, moved by
     `shift_px` (x, y), written losslessly to `path`."""
-    cam = dataclasses.replace(spec.camera, white_level=spec.camera.white_level * EXPOSURE,
-                              jpeg_quality=None)
-    empty = dataclasses.replace(spec, point_positions_mm=_OUT_OF_VIEW, n_frames=1, camera=cam)
-    image = next(iter_frames(empty))[1]
-    m = np.float32([[1, 0, shift_px[0]], [0, 1, shift_px[1]]])
-    moved = cv2.warpAffine(image, m, image.shape[::-1], flags=cv2.INTER_LINEAR,
-                           borderMode=cv2.BORDER_REPLICATE)
-    cv2.imwrite(str(path), moved)
+    cv2.imwrite(str(path), empty_reference(spec, exposure=EXPOSURE, shift_px=shift_px))
     return path
 
 

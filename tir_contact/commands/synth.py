@@ -60,6 +60,11 @@ _CAMERA_FIELDS = {
     "lit_rim": "lit_rim_mm",
     "jpeg_quality": "jpeg_quality",
     "optical_blur": "optical_blur_mm",
+    "fold_depth": "fold_depth",
+    "fold_x": "fold_x_mm",
+    "fold_width": "fold_width_mm",
+    "fold_edge": "fold_edge_mm",
+    "stray_light": "stray_light",
 }
 # CLI option dest -> FootageSpec field of synthetic.footage
 _SPEC_FIELDS = {
@@ -125,6 +130,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     _add_measurements(sub)
 
 
+def _add_light_faults(p: Any) -> None:
+    """The TIR light's faults: a darker fold across the lit zone and stray light."""
+    light = p.add_argument_group("light faults (TIR view; default: none)")
+    light.add_argument("--fold-depth", type=_non_negative, metavar="F",
+                       help="share of the light lost in a darker fold along y, in [0, 1)")
+    light.add_argument("--fold-x", type=_number, metavar="MM",
+                       help="the fold's centre line from the image centre along x, mm")
+    light.add_argument("--fold-width", type=_non_negative, metavar="MM",
+                       help="width of the fold's flat core, mm (default 1)")
+    light.add_argument("--fold-edge", type=_non_negative, metavar="MM",
+                       help="width of each fold edge (the fall-off), mm (default 0.3)")
+    light.add_argument("--stray-light", type=_non_negative, metavar="F",
+                       help="stray light added to the reflected light, fraction of the white "
+                       "level, in [0, 1): full contact no longer nearly black")
+
+
 def _add_footage(sub: Any) -> None:
     p = sub.add_parser(
         "footage",
@@ -187,6 +208,7 @@ def _add_footage(sub: Any) -> None:
     real.add_argument("--texture", type=_non_negative, metavar="F",
                       help="rms light texture of the free surface, fraction (e.g. 0.1)")
     _add_physical(p)
+    _add_light_faults(p)
     cond = p.add_argument_group("conditions (default: the renderer's)")
     cond.add_argument("--pressure", type=_positive, metavar="BAR", help="nominal pressure, bar")
     cond.add_argument("--temperature", type=_number, metavar="C", help="ice temperature, degC")

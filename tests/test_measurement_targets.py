@@ -1,0 +1,180 @@
+"""Issue 21's measurement targets on a small fixed subset of the validation
+(examples/validate_pipeline.py: the physical classes, the load series and the renders of the
+issue's table, :mod:`synthetic.table`), held as strict xfails where today's pipeline misses
+them (a strict xfail turns into a failure the day the pipeline passes, so the marker cannot
+outlive the fix).
+
+The truth is the renderer's: the true contact area (gap 0, inside the lit mask). The subset:
+five clips of the physical classes drawn by :func:`synthetic.domain.sample_physical_specs`
+(seed 0, fixed indices), short (4 frames static, 16 frames of the sliding block): the
+shared fixture takes about 35 s, each render of the table under 10 s, the load series
+(four rough-contact solves) about 40 s alone. It is a check, not the published figure (that
+is ``validate_pipeline.py --physical N --table``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from synthetic.roughness import MissingExtraError, require_tamaas
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+
+from _domain_validation import (
+    MEASUREMENT_TARGETS,
+    load_series,
+    summarise,
+    validate_clip,
+    validate_table_clip,
+)
+
+try:
+    require_tamaas()
+    HAVE_TAMAAS = True
+except MissingExtraError:
+    HAVE_TAMAAS = False
+
+needs_tamaas = pytest.mark.skipif(
+    not HAVE_TAMAAS,
+    reason="tamaas (the contact extra) is not installed; it has wheels for Python 3.11 and 3.12",
+)
+pytestmark = pytest.mark.slow
+
+#: Draws of sample_physical_specs(12, seed=0), the cheapest of each class (0.01-0.02
+#: mm/px; rendered and analysed in 1-17 s each): rough pads (one textured), rough spheres,
+#: one sliding block with physical real contact.
+SUBSET = {"tir rough pad": (6, 11), "tir rough sphere": (5, 10), "tir physical block": (4,)}
+
+
+def _short(spec):
+    return dataclasses.replace(spec, n_frames=16 if spec.scene == "block" else 4)
+
+
+@pytest.fixture(scope="module")
+def physical_summary():
+    import pandas as pd
+
+    from synthetic.domain import sample_physical_specs
+
+    specs = sample_physical_specs(12, seed=0)
+    rows = []
+    for case, indices in SUBSET.items():
+        for i in indices:
+            spec, drawn = specs[i]
+            assert drawn == case  # the draws are fixed by the seed
+            rows.append(validate_clip(_short(spec), case, i))
+    table = pd.DataFrame(rows)
+    return summarise(table).set_index("case")
+
+
+def _all(summary, key):
+    return float(summary.loc["all", key])
+
+
+@needs_tamaas
+@pytest.mark.xfail(strict=True, reason="issue 21: sub-pixel junctions and texture; measured "
+                   "on e61c71b: 2-178 % per clip over the subset")
+def test_physical_area_error_median_within_2_percent(physical_summary):
+    assert _all(physical_summary, "area_err_pct median") <= MEASUREMENT_TARGETS[
+        "area_err_pct median"]
+
+
+@needs_tamaas
+@pytest.mark.xfail(strict=True, reason="issue 21: the worst physical clips are far off")
+def test_physical_area_error_p95_within_8_percent(physical_summary):
+    assert _all(physical_summary, "area_err_pct p95") <= MEASUREMENT_TARGETS["area_err_pct p95"]
+
+
+@needs_tamaas
+@pytest.mark.xfail(strict=True, reason="issue 21 item 2: the bar misses the truth in whole "
+                   "clips (e61c71b: both rough spheres 0 of 4 frames, 75 % of the subset)")
+def test_physical_truth_inside_the_error_bar_in_90_percent_of_frames(physical_summary):
+    assert "in_band_pct" in physical_summary, "frames.csv has no contact_area_low/high_mm2"
+    assert _all(physical_summary, "in_band_pct") >= MEASUREMENT_TARGETS["in_band_pct"]
+
+
+@pytest.fixture(scope="module")
+def series():
+    return load_series(n_frames=3)
+
+
+@needs_tamaas
+def test_load_series_is_proportional_to_load(series):
+    """Rough pad on a textured field at 0.5/1/2/4 bar (no empty frame): the line through
+    (load, measured area) meets zero load within 20 % of the lowest load's area."""
+    _, fit = series
+    # the truth itself passes by far (about 1 %: real contact grows as p^0.9-1)
+    assert abs(fit["true_intercept_pct"]) < 5.0
+    assert abs(fit["intercept_pct"]) < MEASUREMENT_TARGETS["intercept_pct"]
+
+
+@needs_tamaas
+@pytest.mark.xfail(strict=True, reason="issue 21: e61c71b measures 0.056 mm2 at 0.5 bar and "
+                   "0.054 at 1 bar (truth 0.038, 0.075): the intercept passes by cancellation")
+def test_load_series_area_grows_with_load_within_25_percent(series):
+    table, _ = series
+    assert np.all(np.diff(table.measured_mm2.to_numpy()) > 0), table
+    # 25 %: the band tests/test_segmentation_targets.py allows sub-pixel junctions
+    assert np.allclose(table.measured_mm2, table.true_area_mm2, rtol=0.25), table
+
+
+# -- the renders of issue 21's table --------------------------------------------------------
+def _table(name: str, *, reference: bool = False) -> dict:
+    from synthetic.table import table_specs
+
+    return validate_table_clip(name, table_specs(0, n_frames=3)[name], reference=reference)
+
+
+def _check(row: dict, tolerance_pct: float) -> None:
+    assert abs(row["measured_mm2"] / row["true_area_mm2"] - 1) * 100 <= tolerance_pct, row
+    assert row.get("frames_in_band") == row.get("frames_scored"), row
+
+
+# Tolerances. Resolved contacts, one large disc (round pad r = 77 px, smooth sphere r = 80 px,
+# bright patches r = 60 px): 2 %, the issue's median target (the edge placed to 0.5 px is
+# 1.3 % of a 77 px disc's area, patchy edges add little at these patch sizes). The three
+# small contacts (r = 32 px each, patchy): 3 %, their perimeter-to-area ratio is 2.4x the
+# round pad's.
+def test_table_round_pad():
+    _check(_table("round pad"), 2.0)
+
+
+def test_table_smooth_sphere_on_glass():
+    _check(_table("smooth sphere on glass"), 2.0)
+
+
+def test_table_bright_patches():
+    _check(_table("bright patches"), 2.0)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 21 item 3: the fold's fall-off counted as "
+                   "contact (e61c71b: 24.6 mm2 measured for 8.0 mm2)")
+def test_table_three_points_with_a_fold():
+    _check(_table("three points, fold"), 3.0)
+
+
+def test_table_three_points_with_a_fold_and_its_own_empty_frame():
+    _check(_table("three points, fold", reference=True), 3.0)
+
+
+@needs_tamaas
+@pytest.mark.xfail(strict=True, reason="issue 21: sub-pixel junctions under stray light "
+                   "(full contact not black); e61c71b: 27 % low")
+def test_table_rough_pad_under_stray_light():
+    """Rough pad at 1 bar on the load series' textured field, 15 % stray light: full
+    contact is 1 - R at most 0.87 dark instead of 0.98; the measured area must not
+    assume otherwise. Tolerance 8 %: the issue's p95 for sub-pixel junctions."""
+    row = validate_table_clip("rough pad, stray light", _stray_spec())
+    _check(row, 8.0)
+
+
+def _stray_spec():
+    from _domain_validation import load_series_spec
+
+    pad = load_series_spec(1.0, n_frames=3)
+    return dataclasses.replace(pad, camera=dataclasses.replace(pad.camera, stray_light=0.15))
