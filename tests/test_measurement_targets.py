@@ -20,8 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from synthetic.roughness import MissingExtraError, require_tamaas
+from _extras import needs_tamaas
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 
@@ -33,16 +32,6 @@ from _domain_validation import (
     validate_table_clip,
 )
 
-try:
-    require_tamaas()
-    HAVE_TAMAAS = True
-except MissingExtraError:
-    HAVE_TAMAAS = False
-
-needs_tamaas = pytest.mark.skipif(
-    not HAVE_TAMAAS,
-    reason="tamaas (the contact extra) is not installed; it has wheels for Python 3.11 and 3.12",
-)
 pytestmark = pytest.mark.slow
 
 #: Draws of sample_physical_specs(12, seed=0), the cheapest of each class (0.01-0.02

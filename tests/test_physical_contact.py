@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 import pytest
+from _extras import needs_tamaas
 
 from synthetic.ftir import FtirOptics
 from synthetic.roughness import (
@@ -23,19 +24,6 @@ from synthetic.roughness import (
     require_tamaas,
     rough_heights,
     solve_contact,
-)
-
-try:
-    require_tamaas()
-    HAVE_TAMAAS = True
-except MissingExtraError:
-    HAVE_TAMAAS = False
-
-# the test extra installs tamaas on every Python it has a wheel for (3.11, 3.12)
-needs_tamaas = pytest.mark.skipif(
-    not HAVE_TAMAAS,
-    reason="tamaas (the contact extra) is not installed; it has wheels for Python 3.11 and "
-    f"3.12, this is {sys.version_info.major}.{sys.version_info.minor}",
 )
 
 

@@ -11,23 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _extras import needs_tamaas
 
-from synthetic.roughness import MissingExtraError, require_tamaas
-
-try:
-    require_tamaas()
-    HAVE_TAMAAS = True
-except MissingExtraError:
-    HAVE_TAMAAS = False
-
-pytestmark = [
-    pytest.mark.skipif(
-        not HAVE_TAMAAS,
-        reason="tamaas (the contact extra) is not installed; it has wheels for Python 3.11 "
-        "and 3.12",
-    ),
-    pytest.mark.slow,  # four solves and four analyses: about a minute
-]
+pytestmark = [needs_tamaas, pytest.mark.slow]  # four solves and four analyses: a minute
 
 LOADS_BAR = (0.5, 1.0, 2.0, 4.0)
 

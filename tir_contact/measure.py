@@ -193,11 +193,11 @@ class AreaModel:
 def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
                      level: float = ASSUMED_FULL_DARKNESS / 2
                      ) -> tuple[float, float, float, int, float, float]:
-    """``b``, the texture's spread, the correlation area, the pixel count, the mean and the
-    standard deviation of the free surface: the measured pixels away from any pixel darker
-    than `level` (:data:`EDGE_PX` and the 3 x 3 neighbourhood around it), the spread from
-    the part of their darkness distribution below its median (which contact, only adding
-    darkness, does not reach)."""
+    """``b``, the spread below it, the texture's spread (beyond the noise), the pixel count,
+    the mean and the standard deviation of the free surface: the measured pixels away from
+    any pixel darker than `level` (:data:`EDGE_PX` and the 3 x 3 neighbourhood around it),
+    the spread from the part of their darkness distribution below its median (which
+    contact, only adding darkness, does not reach)."""
     kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * EDGE_PX + 3,) * 2)
     parts = []
     for d in samples:
@@ -207,7 +207,7 @@ def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
         parts.append(d[away])
     values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
     if values.size < 100:
-        return 0.0, 0.0, 1.0, int(values.size), 0.0, 0.0
+        return 0.0, 0.0, 0.0, int(values.size), 0.0, 0.0
     n_values = int(values.size)
     # an even subsample: a percentile of 2 x 10^5 values is known to 0.3 % of the spread
     values = values[::max(1, n_values // MAX_FREE_VALUES)]
@@ -217,8 +217,8 @@ def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
     noise = float(np.median(sigma_noise[np.isfinite(sigma_noise)])) if np.isfinite(
         sigma_noise).any() else 0.0
     texture = math.sqrt(max(spread ** 2 - noise ** 2, 0.0))
-    return (b, texture, correlation_area(samples, b, spread), n_values,
-            float(np.mean(values, dtype=np.float64)), float(np.std(values, dtype=np.float64)))
+    return (b, spread, texture, n_values, float(np.mean(values, dtype=np.float64)),
+            float(np.std(values, dtype=np.float64)))
 
 
 def correlation_area(samples: list[np.ndarray], b: float, spread: float) -> float:
@@ -324,16 +324,16 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     # (contact too faint for a core shifts the median otherwise)
     # the free surface from at most MAX_FREE_FRAMES of the samples, spread through them
     few = samples[::max(1, math.ceil(len(samples) / MAX_FREE_FRAMES))]
-    b, texture, corr, n_free, mean, sd_all = _free_statistics(few, sigma_noise)
-    first = b + float(norm.isf(FALSE_SEEDS_PER_FRAME / max(
-        int(np.isfinite(samples[0]).sum()), 1))) * math.hypot(
+    n_lit = max(int(np.isfinite(samples[0]).sum()), 1) if samples else 1
+    z = float(norm.isf(FALSE_SEEDS_PER_FRAME / n_lit))
+    b, spread, texture, n_free, mean, sd_all = _free_statistics(few, sigma_noise)
+    first = b + z * math.hypot(
         texture, float(np.nanmedian(sigma_noise)) if np.isfinite(sigma_noise).any() else 0.0)
     if math.isfinite(first) and first < ASSUMED_FULL_DARKNESS / 2:
         # the mean and the spread of the whole free surface (dust and bubbles included,
         # which the second pass would cut away with faint contact) stay the first pass's
-        b, texture, corr, n_free, _, _ = _free_statistics(few, sigma_noise, first)
-    n_lit = max(int(np.isfinite(samples[0]).sum()), 1) if samples else 1
-    z = float(norm.isf(FALSE_SEEDS_PER_FRAME / n_lit))
+        b, spread, texture, n_free, _, _ = _free_statistics(few, sigma_noise, first)
+    corr = correlation_area(few, b, spread)
     with np.errstate(invalid="ignore"):
         sig = np.sqrt(sigma_noise.astype(np.float64) ** 2 + texture ** 2)
     seed = (b + z * sig).astype(np.float32)
@@ -465,8 +465,8 @@ def _clusters(mask: np.ndarray, min_px: int) -> np.ndarray:
     return keep[lab]
 
 
-def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b: float,
-                   c: float) -> float:
+def _resolved_area(d: np.ndarray, finite: np.ndarray, resolved: np.ndarray,
+                   zone_res: np.ndarray, b: float, c: float) -> float:
     """Area (px) of resolved contact: its deep interior (pixels :data:`EDGE_PX` or more
     inside a resolved region) counted, every pixel one (a contact's darkness may vary
     inside it, as with pressure), and its edge band (`zone_res` less the deep interior)
@@ -476,7 +476,7 @@ def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b:
         return 0.0
     deep = cv2.erode(resolved.view(np.uint8), _EDGE, borderType=cv2.BORDER_CONSTANT,
                      borderValue=0)
-    deep_b = deep.astype(bool) & np.isfinite(d)
+    deep_b = deep.astype(bool) & finite
     band = zone_res & ~deep_b
     n_deep = int(np.count_nonzero(deep_b))
     if not band.any():
@@ -508,8 +508,8 @@ def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float,
     return total, math.hypot(sd_sum, sd_b) / c
 
 
-def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None,
-               labels: tuple[np.ndarray, int] | None = None) -> FrameArea:
+def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None
+               ) -> FrameArea:
     """Contact area of one frame's darkness `d` (module notes), with its error bar.
 
     Parameters
@@ -520,10 +520,6 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     box : (slice, slice), optional
         Only this part of the frame holds contact (the rest is free surface: no seed
         there); the frame's darkness budget is then not drawn on.
-    labels : (ndarray of int32, int), optional
-        The 8-connected regions at or above ``model.threshold`` (of `d`'s shape) and
-        their number plus one, when the segmentation has labelled them already (regions
-        it dropped as too small have no interior and are unmixed as seeds).
 
     Returns
     -------
@@ -549,7 +545,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     c, b = model.contact_darkness, model.offset
     with np.errstate(invalid="ignore"):
         seeds = d >= seed
-        half = d >= model.threshold if labels is None else labels[0] > 0
+        half = d >= model.threshold
     resolved = _resolved(half)
     edge = cv2.dilate(resolved.view(np.uint8), _EDGE).astype(bool)
     seeds &= ~edge  # seeds on a resolved region's edge are its own
@@ -568,7 +564,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     zone = zone_res | zone_un
     ring = cv2.dilate(zone.view(np.uint8), _EDGE).astype(bool) & ~zone & finite
     missed = max(float(np.sum(d[ring] - b, dtype=np.float64)), 0.0) / c
-    part_res = _resolved_area(d, resolved, zone_res, b, c)
+    part_res = _resolved_area(d, finite, resolved, zone_res, b, c)
     excess_un = float(np.sum(d[zone_un] - b, dtype=np.float64))
     n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(zone_un))
     # the resolved part over the plausible decisions: counted at any threshold between the

@@ -31,7 +31,7 @@ import cv2
 import numpy as np
 from scipy.stats import norm
 
-from tir_contact._darkness import BoxDarkness, ContactTest, Normaliser, RawContactTest
+from tir_contact._darkness import BoxDarkness, ContactTest, Normaliser
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact._readers import FootageError
 from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows
@@ -153,7 +153,8 @@ class TirFrames:
         self._test = ContactTest(self.normalise, view.threshold)
         self._box = BoxDarkness(self.normalise, setup.shape)
         self._valid_counts = ValidCounts()  # the reference's mask is fixed within a video
-        self._seed_tests: dict[str, RawContactTest | None] = {}  # by dtype character
+        model = view.area_model  # its seed level, tested like contact (per pixel)
+        self._seeds = ContactTest(self.normalise, model.seed) if model is not None else None
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, FrameContact, tuple | None]:
         """Steps 1 to 3: the darkness (in the box, NaN elsewhere), the contact, and the
@@ -211,10 +212,10 @@ class TirFrames:
         ``self.setup``, its model ``self.view.area_model``.
 
         A fixed camera whose free surface separates from contact: only the box around the
-        seed pixels (found on the raw grey values, :class:`RawContactTest` at the model's
-        per-pixel seed level) and the contact, grown by the zone around contact, is read;
-        otherwise (a static scene, or a free surface that reaches past half of full
-        contact) the whole frame, whose darkness budget then counts.
+        seed pixels (:class:`ContactTest` at the model's per-pixel seed level: on the raw
+        grey values where the dtype allows) and the contact, grown by the zone around
+        contact, is read; otherwise (a static scene, or a free surface that reaches past
+        half of full contact) the whole frame, whose darkness budget then counts.
         """
         model = self.view.area_model
         px2 = self.setup.mm_per_px ** 2
@@ -222,34 +223,17 @@ class TirFrames:
             area = row["contact_area_mm2"]
             row["contact_area_low_mm2"] = row["contact_area_high_mm2"] = area
             return
-        a = None
         if not model.static and model.separation > 1.0:
-            test = self._seed_test(frame)
-            if test is not None:
-                seeds = test(frame)
-                box = _union(_box_and_counts(seeds)[0], contact.box, frame.shape, ZONE_PX
-                             + EDGE_PX + 1)
-                if box is None:
-                    a = FrameArea(0.0, 0.0, 0.0, 0, 0.0)
-                else:
-                    a = frame_area(self.normalise.region(frame, *box), model, box,
-                                   _labels_in(contact, box, self.view.threshold
-                                              == model.threshold))
-        if a is None:
+            seeds = self._seeds(frame)
+            box = _union(_box_and_counts(seeds)[0], contact.box, frame.shape,
+                         ZONE_PX + EDGE_PX + 1)
+            a = (FrameArea(0.0, 0.0, 0.0, 0, 0.0) if box is None
+                 else frame_area(self.normalise.region(frame, *box), model, box))
+        else:
             a = frame_area(self.normalise(frame), model)
         row["contact_area_mm2"] = a.area_px * px2
         row["contact_area_low_mm2"] = a.low_px * px2
         row["contact_area_high_mm2"] = a.high_px * px2
-
-    def _seed_test(self, frame: np.ndarray) -> RawContactTest | None:
-        """The model's seed level as a test of the raw grey values (per dtype)."""
-        key = frame.dtype.char
-        test = self._seed_tests.get(key, False)
-        if test is False:
-            test = RawContactTest.build(self.normalise, self.view.area_model.seed,
-                                        frame.dtype)
-            self._seed_tests[key] = test
-        return test
 
     def _at_rim(self, contact: FrameContact) -> np.ndarray:
         """Which regions (index = label, 0 unused) touch the rim of the lit zone."""
@@ -258,20 +242,6 @@ class TirFrames:
             out[contact.box_labels[self._rim[contact.box]]] = True
             out[0] = False
         return out
-
-
-def _labels_in(contact: FrameContact, box: tuple[slice, slice],
-               same: bool) -> tuple[np.ndarray, int] | None:
-    """The segmentation's region labels placed in `box` (which holds the contact's box),
-    when it segmented at the measurement's threshold (`same`)."""
-    if not same:
-        return None
-    lab = np.zeros((box[0].stop - box[0].start, box[1].stop - box[1].start), np.int32)
-    if contact.box is not None and contact.box_labels is not None:
-        r, c = contact.box
-        lab[r.start - box[0].start:r.stop - box[0].start,
-            c.start - box[1].start:c.stop - box[1].start] = contact.box_labels
-    return lab, contact.n_regions + 1
 
 
 def _union(a: tuple[slice, slice] | None, b: tuple[slice, slice] | None,
