@@ -153,15 +153,29 @@ def _edge_widths(lab: np.ndarray, n: int, grad: np.ndarray, depth: np.ndarray,
     inner = cv2.erode(mask, np.ones((3, 3), np.uint8)).astype(bool)
     ring = cv2.dilate(mask, np.ones((3, 3), np.uint8)).astype(bool) & ~inner & lit
     owner = cv2.dilate(lab.astype(np.float32), np.ones((3, 3), np.uint8)).astype(np.int32)
+    g, has = _group_medians(owner[ring], grad[ring], n)
+    dk, _ = _group_medians(lab[lab > 0], depth[lab > 0], n)
     widths = np.zeros(n)
-    for k in range(1, n):
-        on = ring & (owner == k)
-        if not on.any():
-            continue
-        g = float(np.median(grad[on]))
-        dk = float(np.median(depth[lab == k]))
-        widths[k] = dk / g if g > 0 else np.inf
+    with np.errstate(divide="ignore", invalid="ignore"):
+        widths[has] = np.where(g[has] > 0, dk[has] / g[has], np.inf)
     return widths
+
+
+def _group_medians(keys: np.ndarray, values: np.ndarray, n: int
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Median of `values` for each key in ``0..n-1`` (as :func:`numpy.median`: the mean of
+    the two middle values of an even group, in the values' dtype) and which keys occur;
+    one sort instead of a pass over the image per key."""
+    order = np.lexsort((values, keys))
+    k, v = keys[order], values[order]
+    counts = np.bincount(k, minlength=n)
+    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    has = counts > 0
+    med = np.zeros(n)
+    c, s0 = counts[has], starts[has]
+    lo, hi = v[s0 + (c - 1) // 2], v[s0 + c // 2]
+    med[has] = np.where(c % 2 == 1, hi, (lo + hi) / v.dtype.type(2))
+    return med, has
 
 
 def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
