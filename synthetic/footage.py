@@ -1068,7 +1068,7 @@ class _ModelInput:
         )
 
 
-@functools.lru_cache(maxsize=16)
+@functools.lru_cache(maxsize=64)
 def _simulate(spec: _ModelInput) -> _ModelStates:
     """Integrate the rigid block model once per distinct model input (cached)."""
     geom = spec.geometry

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _footage import STEADY_SETTLE_S
 
 from synthetic.footage import CameraSettings, FootageSpec, render_footage
 from synthetic.rig import make_raw_run, write_run_csv
@@ -46,7 +47,8 @@ def render_clip() -> Callable[..., Path]:
 
     def render(folder: Path, fmt: str = "png", **spec_fields) -> Path:
         spec = FootageSpec(**{"preset": "G3", "velocity_mps": 3.0, "n_frames": 160,
-                              "dynamics": "steady", "camera": SMALL_CAMERA, **spec_fields})
+                              "dynamics": "steady", "settle_s": STEADY_SETTLE_S,
+                              "camera": SMALL_CAMERA, **spec_fields})
         render_footage(spec, folder, fmt=fmt, progress=False)
         return folder
 

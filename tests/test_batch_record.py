@@ -52,7 +52,9 @@ def _result_folders(out: Path) -> set[str]:
 
 
 @pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to a process group (POSIX)")
-@pytest.mark.parametrize("target", ["group", "main"])
+# the whole process group is what a terminal's Ctrl-C reaches; the main process alone
+# (kill -INT) runs with -m slow
+@pytest.mark.parametrize("target", ["group", pytest.param("main", marks=pytest.mark.slow)])
 def test_ctrl_c_stops_at_once_and_the_report_lists_what_was_written(clip, tmp_path, target):
     # ten copies of the clip: each takes about as long as the interrupt takes to arrive
     tree = tmp_path / "clips"

@@ -98,6 +98,9 @@ def test_hertz_sphere_on_flat_contact_radius():
     assert np.all(c.gap_m >= 0) and np.all(c.gap_m[c.in_contact] == 0)
 
 
+# four 512 x 512 contact solutions (10 s): with -m slow; the default run holds the solver to
+# Hertz (test_hertz_sphere_on_flat_contact_radius)
+@pytest.mark.slow
 @needs_tamaas
 def test_rough_contact_area_grows_as_kappa_p_over_e_star_slope():
     # A_r / A_0 = kappa p / (E* h') at small load, kappa near 2 within 15 %. Four surfaces

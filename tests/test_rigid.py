@@ -292,7 +292,8 @@ def _swing(params, initial_rates_rad_s, solver, **options):
     return res, energy
 
 
-@pytest.mark.parametrize("contact_model", ["edge", "face"])
+# the face contact (the footage's model) in the default run; the edge contact with -m slow
+@pytest.mark.parametrize("contact_model", [pytest.param("edge", marks=pytest.mark.slow), "face"])
 def test_energy_is_conserved_without_damping_and_friction(contact_model):
     # Truth: with no dampers and no friction, kinetic + spring + gravity + penalty energies
     # (ground and sipes, from their potentials) are constant. The elements are started

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from _footage import STEADY_SETTLE_S
 
 from synthetic.footage import FootageSpec, iter_frames
 from tir_contact.flatfield import Reference, darkness, reference_from_frame, reference_from_frames
@@ -10,12 +11,15 @@ from tir_contact.segment import estimate_contrast, segment_frame
 MM2_PER_PX = 0.1**2  # default camera scale 0.1 mm/px
 
 
-@pytest.fixture(scope="module", params=["G0", "G3", "G7"])
+# G3 in the default run (test_footage checks G0 and G7 segmentation against the truth);
+# G0 and G7 with -m slow
+@pytest.fixture(scope="module", params=[pytest.param("G0", marks=pytest.mark.slow), "G3",
+                                        pytest.param("G7", marks=pytest.mark.slow)])
 def clip(request):
     # 5 m/s at 4000 frames/s: the block enters, crosses and leaves in 80 frames; default
     # camera (noise, blur, uneven light, bubbles, scratches, dust)
     spec = FootageSpec(preset=request.param, n_frames=80, velocity_mps=5.0, dynamics="steady",
-                       seed=3)
+                       seed=3, settle_s=STEADY_SETTLE_S)
     return list(iter_frames(spec))
 
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 import pytest
+from _footage import STEADY_SETTLE_S
 
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames
 from tir_contact.flatfield import reference_from_frames
@@ -255,11 +256,16 @@ def _fixed_camera_spec(preset: str, velocity: float, **kw) -> FootageSpec:
     # (motion blur), noise, illumination gradient, vignetting and dust stay on.
     cam = CameraSettings(fps=400.0 * velocity)
     return FootageSpec(preset=preset, view="side", velocity_mps=velocity, n_frames=40,
-                       camera=cam, dynamics=kw.pop("dynamics", "steady"), **kw)
+                       camera=cam, dynamics=kw.pop("dynamics", "steady"),
+                       settle_s=kw.pop("settle_s", STEADY_SETTLE_S), **kw)
 
 
-@pytest.fixture(scope="module", params=[("G0", 1.0), ("G0", 3.0), ("G3", 1.0), ("G3", 3.0),
-                                        ("G7", 1.0), ("G7", 3.0)], ids=lambda p: f"{p[0]}-{p[1]}")
+# one case per preset in the default run; the other velocity of each runs with -m slow
+@pytest.fixture(scope="module", params=[
+    pytest.param(("G0", 1.0), marks=pytest.mark.slow), ("G0", 3.0), ("G3", 1.0),
+    pytest.param(("G3", 3.0), marks=pytest.mark.slow),
+    pytest.param(("G7", 1.0), marks=pytest.mark.slow), ("G7", 3.0)],
+    ids=lambda p: f"{p[0]}-{p[1]}")
 def steady_case(request):
     spec = _fixed_camera_spec(*request.param)
     elements, blocks, ref = _analyse(spec)
@@ -307,7 +313,7 @@ def test_follow_camera_without_reference(preset):
     # the block never leaves the image: no clean reference, the darkness normalises by
     # the frame's own background; the ice (with its bubbles) moves
     spec = FootageSpec(preset=preset, view="side", velocity_mps=1.0, n_frames=6,
-                       dynamics="steady", follow_camera=True)
+                       dynamics="steady", settle_s=STEADY_SETTLE_S, follow_camera=True)
     elements, blocks, _ = _analyse(spec, reference=False)
     n_el = len(spec.geometry.element_lengths)
     assert blocks["block_in_view"].all() and (blocks["n_elements_in_view"] == n_el).all()
