@@ -279,6 +279,9 @@ def test_block_that_never_leaves_gets_a_fitted_free_surface(render_clip, tmp_pat
     assert (rel / block.contact_area_mm2).median() <= 0.05
 
 
+# with -m slow: test_side holds side-view angles to the truth and test_side_holder runs
+# side views through analyze_video in the default run
+@pytest.mark.slow
 def test_side_view_deflection_against_ground_truth(render_clip, tmp_path):
     """Side view through the pipeline: median angle error <= 0.5 deg (required)."""
     folder = render_clip(tmp_path / "side", view="side", preset="G7")

@@ -51,10 +51,11 @@ def _result_folders(out: Path) -> set[str]:
             if p.is_dir() and not p.name.startswith(".") and p.name != "report_files"}
 
 
+# ten clips through a subprocess batch, interrupted (about 5 s each): with -m slow; the default
+# run holds the batch's report and atomic writes (test_tiff_cut_short..., test_analyze)
+@pytest.mark.slow
 @pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to a process group (POSIX)")
-# the whole process group is what a terminal's Ctrl-C reaches; the main process alone
-# (kill -INT) runs with -m slow
-@pytest.mark.parametrize("target", ["group", pytest.param("main", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("target", ["group", "main"])
 def test_ctrl_c_stops_at_once_and_the_report_lists_what_was_written(clip, tmp_path, target):
     # ten copies of the clip: each takes about as long as the interrupt takes to arrive
     tree = tmp_path / "clips"

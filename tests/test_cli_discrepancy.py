@@ -15,6 +15,10 @@ GRID = {"velocities_mps": [1, 3, 5], "pressures_bar": [1, 2.5, 5],
 FAST = ["--bootstrap", "30", "--permutations", "99", "--max-effects", "1"]
 
 
+# with -m slow (about 6 s): the command's path is held in the default run by the
+# transient table below and the demo's story (test_demo); the steady workflow by
+# test_discrepancy_steady's controls
+@pytest.mark.slow
 def test_steady_table_names_the_hidden_effect(run_cli, tmp_path, capsys):
     # effect size 3 x the 5 % noise: the "must be found" regime
     strength = strength_for_effect_size("humidity_water_layer", 3.0, noise=0.05, grid=GRID)

@@ -27,8 +27,9 @@ def test_face_real_contact_of_uniform_and_triangular_pressure():
     assert face_real_contact_fraction(0.0, 1.0, A, p) == 0.0
 
 
-# three steady block simulations (13 s): with -m slow; the default run holds Fig. 4.21's G7
-# ratio through the renderer (test_real_footage.test_patchy_block_contact_ratio_from_the_renderer)
+# three steady block simulations (13 s): with -m slow; the default run holds Fig. 4.21's
+# ratios through the renderer's model (test_footage_real.test_patchy_contact_ratio_follows_the_
+# model_and_falls_from_g0_to_g7)
 @pytest.mark.slow
 def test_contact_ratio_of_g0_and_g7_matches_fig_4_21():
     # Fig. 4.21: about 70 % (G0) and 25 % (G7), read from the figure (+-0.05 is the required

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+from _footage import STEADY_SETTLE_S
 
 pytest.importorskip("skfem")
 
@@ -70,7 +71,8 @@ def measured():
                   lambda frame, params, node_spacing_mm: [contact] * frame.n_elements)
     try:
         spec = FootageSpec(preset="G3", n_frames=N_FRAMES, velocity_mps=1.0,
-                           dynamics="steady", camera=CameraSettings(fps=FPS), seed=5)
+                           dynamics="steady", settle_s=STEADY_SETTLE_S,
+                           camera=CameraSettings(fps=FPS), seed=5)
         frames = list(iter_frames(spec))
     finally:
         patch.undo()

@@ -9,6 +9,7 @@ import time
 import numpy as np
 import pandas as pd
 import pytest
+from _footage import STEADY_SETTLE_S
 from numpy.testing import assert_allclose
 
 from friction_model.contact.drywet import friction_table
@@ -63,6 +64,9 @@ def test_fit_lever_arm_recovers_e1_to_e4():
     assert fit.rmse_m == pytest.approx(5e-5, rel=0.2)
 
 
+# coverage over many seeds (about 4 s): with -m slow; the default run fits one lever arm
+# against its truth (above)
+@pytest.mark.slow
 def test_lever_arm_confidence_intervals_cover_the_truth():
     truth = true_lever_params()
     n_seeds = 40
@@ -157,6 +161,7 @@ def render_truth(pressure_bar: float, n_frames: int, fps: float = 500.0) -> pd.D
         pressure_bar=pressure_bar,
         n_frames=n_frames,
         dynamics="steady",
+        settle_s=STEADY_SETTLE_S,
         noise=False,
         camera=CameraSettings(fps=fps, width_px=96, height_px=24, mm_per_px=0.5, exposure_s=0.0),
     )
@@ -197,7 +202,8 @@ def _once_per_run(tmp_path_factory, worker_id: str, name: str, make):
 @pytest.fixture(scope="module")
 def clip_truth(tmp_path_factory, worker_id) -> pd.DataFrame:
     # 48 mm x 12 mm view, 2 mm per frame: the 20 mm block enters, crosses and leaves.
-    # The render simulates the block's dynamics (~20 s): made once per run, not per worker
+    # The render simulates the block's dynamics (about 1 s at a 4 ms settle, 9 s at the
+    # default 20 ms): made once per run, not per worker
     return _once_per_run(
         tmp_path_factory, worker_id, "coupling_clip_truth", lambda: render_truth(4.0, 40)
     )

@@ -100,10 +100,12 @@ def test_transient_size_bad_input():
         transient_effect_size("friction_relaxation", 5.0)
 
 
+# the whole transient workflow on a generated table (about 3.5 s): with -m slow; the default
+# run names a hidden transient effect in test_discrepancy_transient
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("effect", "seed"),
-    [("friction_relaxation", 3),
-     pytest.param("frequency_dependent_modulus", 4, marks=pytest.mark.slow)],
+    [("friction_relaxation", 3), ("frequency_dependent_modulus", 4)],
 )
 def test_size_3_at_1_percent_noise_is_named_and_closes_the_held_out_gap(effect, seed):
     from friction_model.discrepancy import TransientProblem, run_discrepancy

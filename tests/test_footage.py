@@ -1,11 +1,11 @@
 """Synthetic footage (:mod:`synthetic.footage`) against its own exact ground truth.
 
-The renders use the steady state of a short model run (``dynamics="steady"``, 10 ms) so
-that every preset is integrated once per session (the model run is cached). Frames are
-analysed the way the TIR evaluation does: darkness relative to an empty frame of the same
-clip, ``d = 1 - I / I_empty`` (dark contact) or ``(I - I_empty) / S`` (bright contact, with
-the full-scale level ``S = I_empty / (1 - C_max)``), and a threshold at half the contact
-contrast ``C / 2``.
+The renders use the steady state of a short model run (``dynamics="steady"``, 4 ms:
+``tests/_footage.py``) so that every preset is integrated once per session (the model run is
+cached). Frames are analysed the way the TIR evaluation does: darkness relative to an empty
+frame of the same clip, ``d = 1 - I / I_empty`` (dark contact) or ``(I - I_empty) / S``
+(bright contact, with the full-scale level ``S = I_empty / (1 - C_max)``), and a threshold
+at half the contact contrast ``C / 2``.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import tifffile
+from _footage import STEADY_SETTLE_S
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -37,7 +38,7 @@ PX = 0.1  # mm/px of every test camera (the default)
 # 1000 frames/s at 0.913 m/s: the block moves 9.13 px per frame, so the edges visit many
 # sub-pixel phases, and 100 frames cover the whole pass (91 mm) with empty frames at both ends.
 QUIET = {"fps": 1000.0, "exposure_s": 0.0, "bit_depth": 16}
-PASS = {"n_frames": 100, "velocity_mps": 0.913, "dynamics": "steady", "settle_s": 0.01}
+PASS = {"n_frames": 100, "velocity_mps": 0.913, "dynamics": "steady", "settle_s": STEADY_SETTLE_S}
 
 
 def quiet_spec(preset: str, **kw) -> FootageSpec:
@@ -162,7 +163,7 @@ def test_contact_ratio_falls_with_the_number_of_sipes():
     # Fig. 4.21: fewer contact with more sipes (the thin elements tilt and lift at the back).
     ratios = []
     for preset in ("G0", "G3", "G5", "G6", "G7"):
-        spec = FootageSpec(preset=preset, dynamics="steady", settle_s=0.01, n_frames=1)
+        spec = FootageSpec(preset=preset, dynamics="steady", settle_s=STEADY_SETTLE_S, n_frames=1)
         _, _, truth = next(iter_frames(spec))
         el = truth[truth["element"] >= 0]
         lengths = spec.geometry.element_lengths[el["element"].to_numpy()]
@@ -269,7 +270,7 @@ def measure_side_angles(img, empty, n_elements, *, rubber=0.08, ice=0.6):
 def test_side_view_angles_measured_from_the_image_match_the_truth(preset):
     cam = CameraSettings(**QUIET)
     common = {"preset": preset, "view": "side", "noise": False, "camera": cam, "n_frames": 2}
-    kw = {"dynamics": "steady", "settle_s": 0.01}
+    kw = {"dynamics": "steady", "settle_s": STEADY_SETTLE_S}
     _, img, truth = next(iter_frames(FootageSpec(**common, **kw, center_time_s=0.0)))
     _, empty, none = next(iter_frames(FootageSpec(**common, **kw, center_time_s=1.0)))
     assert not none["in_view"].any()
@@ -281,7 +282,8 @@ def test_side_view_angles_measured_from_the_image_match_the_truth(preset):
 
 def test_side_view_follow_camera_keeps_the_block_in_place():
     spec = FootageSpec(
-        preset="G3", view="side", follow_camera=True, n_frames=3, dynamics="steady", settle_s=0.01
+        preset="G3", view="side", follow_camera=True, n_frames=3, dynamics="steady",
+        settle_s=STEADY_SETTLE_S,
     )
     fronts = [t.loc[t["element"] == 0, "front_edge_x_mm"].iloc[0] for _, _, t in iter_frames(spec)]
     np.testing.assert_allclose(fronts, fronts[0], atol=1e-12)
@@ -297,7 +299,7 @@ def test_bit_depths_and_polarities(bit_depth, contact_is):
         noise=False,
         n_frames=1,
         dynamics="steady",
-        settle_s=0.01,
+        settle_s=STEADY_SETTLE_S,
         camera=CameraSettings(bit_depth=bit_depth),
     )
     _, img, truth = next(iter_frames(spec))
@@ -317,7 +319,8 @@ def test_bit_depths_and_polarities(bit_depth, contact_is):
 
 def test_noise_matches_the_sensor_model():
     cam = CameraSettings(bit_depth=12, illumination_gradient=0.0, vignetting=0.0, n_dust=0)
-    spec = FootageSpec(preset="G3", camera=cam, dynamics="steady", settle_s=0.01, n_frames=2)
+    spec = FootageSpec(preset="G3", camera=cam, dynamics="steady", settle_s=STEADY_SETTLE_S,
+                       n_frames=2)
     (_, a, _), (_, b, _) = list(iter_frames(spec))
     pa, pb = a[96:160, 32:160].astype(float), b[96:160, 32:160].astype(float)
     dn_per_e = 4095 / cam.full_well_e
@@ -349,7 +352,7 @@ def test_pixel_integration_conserves_the_contact_length(a, length, pitch, blur):
 
 
 # -- files -----------------------------------------------------------------------------------
-SMALL = {"preset": "G3", "n_frames": 5, "dynamics": "steady", "settle_s": 0.01}
+SMALL = {"preset": "G3", "n_frames": 5, "dynamics": "steady", "settle_s": STEADY_SETTLE_S}
 
 
 def test_same_seed_same_bytes_other_seed_other_noise(tree_bytes, tmp_path):

@@ -446,7 +446,8 @@ def test_open_footage_kind(tmp_path):
 # --- bounded memory -------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("source", ["tiff", "tiff-zlib", "folder"])
+@pytest.mark.parametrize("source", ["tiff", pytest.param("tiff-zlib", marks=pytest.mark.slow),
+                                    "folder"])
 def test_iterating_2000_frames_keeps_memory_bounded(tmp_path, source):
     n, shape = 2000, (64, 64)
     frames = np.zeros((n, *shape), np.uint16)

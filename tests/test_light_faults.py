@@ -131,6 +131,9 @@ def test_table_smooth_sphere_covers_its_share():
     assert share == pytest.approx(SPHERE_SHARE, rel=0.01)
 
 
+# a full-size physical render (about 3.5 s): with -m slow; the rig's own empty frame is
+# held in the default run by test_reference_fit and the fold render above
+@pytest.mark.slow
 def test_empty_reference_is_the_scene_without_contact_at_the_exposure():
     from synthetic.table import empty_reference, table_specs
 

@@ -117,7 +117,9 @@ def test_gap_in_the_frame_numbers_is_kept(copy_meta, clip, tmp_path):
     assert error(res.elements) <= error(full.elements) + 0.05
 
 
-@pytest.mark.parametrize(("value", "words"), [(0, "no lit field"), (255, "saturated")])
+# black footage in the default run; saturated with -m slow (each a subprocess, about 2.5 s)
+@pytest.mark.parametrize(("value", "words"), [
+    (0, "no lit field"), pytest.param(255, "saturated", marks=pytest.mark.slow)])
 def test_black_or_white_footage_is_warned_about(tmp_path, value, words):
     folder = tmp_path / "plain"
     folder.mkdir()

@@ -18,6 +18,7 @@ import cv2
 import numpy as np
 import pandas as pd
 import pytest
+from _footage import STEADY_SETTLE_S
 
 from synthetic.footage import CameraSettings, FootageSpec, iter_frames, render_footage
 from synthetic.table import empty_reference
@@ -122,6 +123,7 @@ def test_passing_block_with_the_rigs_empty_frame(render_clip, tmp_path):
     over the mean (the block covers each pixel in some samples)."""
     folder = render_clip(tmp_path / "pass")
     spec = FootageSpec(preset="G3", velocity_mps=3.0, n_frames=1, dynamics="steady",
+                       settle_s=STEADY_SETTLE_S,
                        center_time_s=10.0,  # the block far away: the empty track
                        camera=dataclasses.replace(SMALL_CAMERA, white_level=0.8 / 1.1))
     image = next(iter_frames(spec))[1]

@@ -329,6 +329,9 @@ def test_energy_is_conserved_without_damping_and_friction(contact_model):
     assert np.ptp(energy) / energy[0] < 1e-7
 
 
+# with -m slow (about 3.5 s): the default run holds energy conservation without friction
+# (face contact) and the dissipation of ground friction
+@pytest.mark.slow
 def test_sipe_friction_only_dissipates():
     # Truth: Coulomb friction in the sipes (R_S = mu S) opposes the relative sliding, so the
     # otherwise conservative system can only lose energy (solver noise: 1e-7 of E per output step).
@@ -443,6 +446,9 @@ def test_higher_velocity_smaller_and_faster_deflection():
     assert out[1.0][2] < 0.05 and out[5.0][2] > 1.0
 
 
+# with -m slow (about 3.5 s): the default run holds the step and the relaxation lag through
+# the renderer's truth (test_footage_step)
+@pytest.mark.slow
 def test_velocity_step_lowers_deflection_with_the_relaxation_lag():
     # Fig. 5.7: a step v1 -> v2 > v1 lowers the deflection (decreasing law); with Eq. 5.12
     # the change follows mu_R and reaches 63 % after about tau (the mechanics take < 1 ms);
