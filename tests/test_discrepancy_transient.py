@@ -478,7 +478,9 @@ def _run_discrepancy():
     "hidden, name, truth_value",
     [
         ({"friction_relaxation": 1.0}, RELAXATION, TAU_REF_S),
-        ({"frequency_dependent_modulus": 1.0}, MODULUS, 1.0),
+        # the second effect with -m slow (the default run names the first and no effect)
+        pytest.param({"frequency_dependent_modulus": 1.0}, MODULUS, 1.0,
+                     marks=pytest.mark.slow),
         ({}, None, None),
     ],
 )

@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 import ast
+import functools
 import io
 import tokenize
 from pathlib import Path
@@ -37,6 +38,12 @@ MAX_CODE_LINES = 80
 
 def _sources() -> list[Path]:
     return sorted(p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py"))
+
+
+@functools.cache
+def _tree(path: Path) -> ast.Module:
+    """The parsed source of `path` (parsed once for all the rules here; not modified)."""
+    return ast.parse(path.read_text(encoding="utf-8"))
 
 
 def _imports(tree: ast.AST) -> list[tuple[ast.AST, str]]:
@@ -72,7 +79,7 @@ def test_imports_point_one_way_and_stay_public():
     for path in _sources():
         rel = path.relative_to(ROOT).as_posix()
         own = rel.split("/")[0]
-        for node, name in _imports(ast.parse(path.read_text(encoding="utf-8"))):
+        for node, name in _imports(_tree(path)):
             top = name.split(".")[0]
             if top not in PACKAGES or top == own:
                 continue
@@ -87,7 +94,7 @@ def test_imports_point_one_way_and_stay_public():
 def test_core_dependencies_are_imported_at_module_level():
     local = []
     for path in _sources():
-        tree = ast.parse(path.read_text(encoding="utf-8"))
+        tree = _tree(path)
         for fn in ast.walk(tree):
             if not isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef):
                 continue
@@ -101,7 +108,7 @@ def test_no_function_is_long_without_a_reason():
     long = []
     for path in _sources():
         source = path.read_text(encoding="utf-8")
-        for fn in ast.walk(ast.parse(source)):
+        for fn in ast.walk(_tree(path)):
             if not isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef):
                 continue
             n = _code_lines(source, fn)
@@ -131,7 +138,7 @@ def _import_graph() -> dict[str, set[str]]:
     graph: dict[str, set[str]] = {name: set() for name in modules}
     for name, path in modules.items():
         package = name if path.name == "__init__.py" else name.rpartition(".")[0]
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(_tree(path)):
             targets: list[str] = []
             if isinstance(node, ast.Import):
                 targets = [a.name for a in node.names]

@@ -98,6 +98,10 @@ def test_defaults_leave_the_spec_as_it_was():
 
 
 # -- the renders of issue 21's table ------------------------------------------------------
+# the issue's full-size render (about 4 s): with -m slow, beside its measurement targets
+# (tests/test_measurement_targets.py); the default run holds the fold's light
+# (test_fold_darkens_its_band_by_the_requested_factor_and_nothing_else)
+@pytest.mark.slow
 def test_table_three_points_fold_truth_and_light():
     from synthetic.table import FOLD_DEPTH, table_specs
 

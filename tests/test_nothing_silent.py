@@ -221,7 +221,8 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc (Linux)")
-@pytest.mark.parametrize("method", ["fork", "forkserver"])
+# fork in the default run; the fork server (a parent with threads, about 3 s) with -m slow
+@pytest.mark.parametrize("method", ["fork", pytest.param("forkserver", marks=pytest.mark.slow)])
 def test_workers_die_with_the_batch(tmp_path, method):
     # the batch's own pool set-up (start method and initialiser), given work that would
     # last a minute; the parent is then killed with SIGKILL, as a user's kill -9 does.

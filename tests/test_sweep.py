@@ -31,6 +31,10 @@ def test_process_pool_gives_the_same_table():
     assert_frame_equal(serial, pool)
 
 
+# a local dask cluster's start (about 3 s): with -m slow, which CI runs with every extra; the
+# default run holds the dask scheduler through analyze (test_analyze.test_batch_on_a_dask_
+# scheduler) and the sweep through a process pool (above)
+@pytest.mark.slow
 @pytest.mark.skipif(importlib.util.find_spec("distributed") is None, reason="needs dask extra")
 def test_dask_local_cluster_gives_the_same_table():
     serial = run_sweep(dry_wet_point, GRID.head(2), scheduler="serial", progress=False)
