@@ -253,6 +253,10 @@ def test_small_effects_are_never_misnamed():
         assert not result.verdict.startswith("ambiguous") or effect in result.verdict
 
 
+# a root finding and a workflow run (about 4.5 s): with -m slow; the default run holds
+# write_result's files (test_discrepancy, the CLI transient table) and names a hidden steady
+# effect through the demo's story
+@pytest.mark.slow
 def test_output_folder(tmp_path, strength3):
     table = make_steady_table(
         GRID, effects={"ice_preheating": strength3["ice_preheating"]}, noise=NOISE, rng=11
