@@ -30,8 +30,11 @@ classes, the renders of the issue's table (:func:`validate_table_clip`, footage 
 
 from __future__ import annotations
 
+import dataclasses
 import shutil
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import cv2
@@ -72,11 +75,25 @@ class _OutsideLit:
         self.total += int(np.count_nonzero(mask))
 
 
+@contextmanager
+def _rendered(spec: FootageSpec, prefix: str) -> Iterator[Path]:
+    """The clip of `spec` rendered into a temporary folder, deleted afterwards."""
+    work = Path(tempfile.mkdtemp(prefix=prefix))
+    try:
+        yield render_footage(spec, work / "clip", progress=False)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def _block_truth(clip: Path) -> pd.Series:
+    """The true contact area of the block or scene (``element == -1``) by frame, mm^2."""
+    truth = pd.read_csv(clip / "ground_truth.csv")
+    return truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
+
+
 def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
     """Render, analyse and compare one clip; the footage is deleted afterwards."""
-    work = Path(tempfile.mkdtemp(prefix="tir-validate-"))
-    try:
-        clip = render_footage(spec, work / "clip", progress=False)
+    with _rendered(spec, "tir-validate-") as clip:
         lit_file = clip / "lit_mask.png"
         lit = (_OutsideLit(cv2.imread(str(lit_file), cv2.IMREAD_GRAYSCALE) > 0)
                if spec.view == "tir" and lit_file.exists() else None)
@@ -95,8 +112,6 @@ def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
         else:
             row.update(_compare_side(res, truth))
         return row
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
 
 
 def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None,
@@ -192,18 +207,14 @@ def validate_table_clip(name: str, spec: FootageSpec, *, reference: bool = False
     """
     from synthetic.table import empty_reference
 
-    work = Path(tempfile.mkdtemp(prefix="tir-table-"))
-    try:
-        clip = render_footage(spec, work / "clip", progress=False)
+    with _rendered(spec, "tir-table-") as clip:
         options = OPTIONS
         if reference:
-            ref = work / "empty.png"
+            ref = clip.parent / "empty.png"
             cv2.imwrite(str(ref), empty_reference(spec))
-            options = AnalysisOptions(overlay_frames=0, parquet=False, regions="never",
-                                      reference=str(ref))
+            options = dataclasses.replace(OPTIONS, reference=str(ref))
         res = analyze_video(clip, options=options)
-        truth = pd.read_csv(clip / "ground_truth.csv")
-        block = truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
+        block = _block_truth(clip)
         measured = res.frames.set_index("frame")["contact_area_mm2"].reindex(block.index)
         row = {"case": name + (", reference" if reference else ""),
                "true_area_mm2": float(block.mean()), "measured_mm2": float(measured.mean()),
@@ -216,8 +227,6 @@ def validate_table_clip(name: str, spec: FootageSpec, *, reference: bool = False
                        high_mm2=float(f.contact_area_high_mm2.mean()))
         row.update(band_counts(res.frames, block))
         return row
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
 
 
 def load_series_spec(pressure_bar: float, *, seed: int = 4, n_frames: int = 3) -> FootageSpec:
@@ -238,19 +247,13 @@ def load_series(loads_bar: tuple[float, ...] = LOADS_BAR, *, seed: int = 4,
     contact grows as about p^0.9-1)."""
     rows = []
     for p in loads_bar:
-        work = Path(tempfile.mkdtemp(prefix="tir-load-"))
-        try:
-            clip = render_footage(load_series_spec(p, seed=seed, n_frames=n_frames),
-                                  work / "clip", progress=False)
+        with _rendered(load_series_spec(p, seed=seed, n_frames=n_frames), "tir-load-") as clip:
             res = analyze_video(clip, options=OPTIONS)
-            truth = pd.read_csv(clip / "ground_truth.csv")
-            block = truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
+            block = _block_truth(clip)
             row = {"pressure_bar": p, "true_area_mm2": float(block.mean()),
                    "measured_mm2": float(res.frames.contact_area_mm2.mean())}
             row.update(band_counts(res.frames, block))
             rows.append(row)
-        finally:
-            shutil.rmtree(work, ignore_errors=True)
     table = pd.DataFrame(rows)
     fit = {}
     for col, key in (("measured_mm2", "intercept_pct"), ("true_area_mm2", "true_intercept_pct")):

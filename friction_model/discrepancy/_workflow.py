@@ -300,8 +300,7 @@ def _decide(
     """Score table of one round and its decision."""
     rows = _score_rows(problem, current, [current, *fits, *trends], pool, round_no)
     phys = sorted([r for r in rows if r["kind"] == "candidate"], key=lambda r: r["aicc"])
-    trend_rows = sorted([r for r in rows if r["kind"] == "trend"], key=lambda r: r["aicc"])
-    best_trend = trend_rows[0] if trend_rows else None
+    best_trend = _best_trend(rows)
     nothing = _nothing_named(best_trend)
     if not phys:
         return nothing, rows
