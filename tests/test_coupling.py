@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import math
-import os
-import time
 
 import numpy as np
 import pandas as pd
@@ -171,45 +169,12 @@ def render_truth(pressure_bar: float, n_frames: int, fps: float = 500.0,
     return pd.concat([table for _, _, table in iter_frames(spec)], ignore_index=True)
 
 
-def _once_per_run(tmp_path_factory, worker_id: str, name: str, make):
-    """``make()`` once for all xdist workers of this run (pickled in the run's shared base
-    folder; the first worker makes it, the others wait for the file), in-process without
-    xdist."""
-    if worker_id == "master":
-        return make()
-    root = tmp_path_factory.getbasetemp().parent  # the run's folder, shared by the workers
-    path = root / f"{name}.pkl"
-    try:
-        os.close(os.open(root / f"{name}.lock", os.O_CREAT | os.O_EXCL))
-        maker = True
-    except FileExistsError:
-        maker = False
-    if maker:
-        try:
-            value = make()
-        except BaseException:
-            (root / f"{name}.failed").touch()
-            raise
-        value.to_pickle(root / f"{name}.tmp")
-        os.replace(root / f"{name}.tmp", path)
-        return value
-    for _ in range(6000):  # the maker's render: well under 10 min even on a busy machine
-        if path.is_file():
-            return pd.read_pickle(path)
-        if (root / f"{name}.failed").exists():
-            pytest.fail(f"the worker that renders {name} failed (see its error)")
-        time.sleep(0.1)
-    raise TimeoutError(f"{path} was not written by the worker that renders it")
-
-
 @pytest.fixture(scope="module")
-def clip_truth(tmp_path_factory, worker_id) -> pd.DataFrame:
+def clip_truth() -> pd.DataFrame:
     # 48 mm x 12 mm view, 2 mm per frame: the 20 mm block enters, crosses and leaves.
-    # The render simulates the block's dynamics (about 1 s at a 4 ms settle, 9 s at the
-    # default 20 ms): made once per run, not per worker
-    return _once_per_run(
-        tmp_path_factory, worker_id, "coupling_clip_truth", lambda: render_truth(4.0, 40)
-    )
+    # The render simulates the block's dynamics (about 1 s at the 4 ms settle); the module's
+    # tests run on one worker (--dist loadfile), so it is made once per run
+    return render_truth(4.0, 40)
 
 
 def test_contact_from_pipeline_matches_the_rendered_truth(clip_truth):
