@@ -238,6 +238,18 @@ def load_series_spec(pressure_bar: float, *, seed: int = 4, n_frames: int = 3) -
                        n_frames=n_frames, camera=cam, texture=0.12, texture_mm=0.04, seed=seed)
 
 
+#: Stray light of the table's rough pad, fraction of the white level.
+STRAY_LIGHT = 0.15
+
+
+def stray_light_spec(*, n_frames: int = 3) -> FootageSpec:
+    """The load series' rough pad at 1 bar under :data:`STRAY_LIGHT` stray light: full
+    contact no longer nearly black (issue 21's table, the sub-pixel case)."""
+    pad = load_series_spec(1.0, n_frames=n_frames)
+    return dataclasses.replace(pad, camera=dataclasses.replace(pad.camera,
+                                                               stray_light=STRAY_LIGHT))
+
+
 def load_series(loads_bar: tuple[float, ...] = LOADS_BAR, *, seed: int = 4,
                 n_frames: int = 3) -> tuple[pd.DataFrame, dict]:
     """Measured and true mean area at each load (:func:`load_series_spec`) and the line

@@ -174,9 +174,7 @@ def table_cases(seed: int = 0, n_frames: int = 6,
     """The "table" set: (name, spec, with the scene's own empty frame as reference) for each
     render of issue 21's table, the fold scene twice (without and with the reference), and
     (``physical``, needs the contact extra) a rough pad under 15 % stray light."""
-    import dataclasses
-
-    from _domain_validation import load_series_spec
+    from _domain_validation import stray_light_spec
 
     from synthetic.table import TABLE_NAMES, table_specs
 
@@ -184,9 +182,8 @@ def table_cases(seed: int = 0, n_frames: int = 6,
     cases = [(name, specs[name], False) for name in TABLE_NAMES]
     cases.append(("three points, fold", specs["three points, fold"], True))
     if physical:
-        pad = load_series_spec(1.0, n_frames=min(n_frames, 3))
-        cases.append(("rough pad, stray light 0.15", dataclasses.replace(
-            pad, camera=dataclasses.replace(pad.camera, stray_light=0.15)), False))
+        cases.append(("rough pad, stray light 0.15", stray_light_spec(n_frames=min(n_frames, 3)),
+                      False))
     return cases
 
 

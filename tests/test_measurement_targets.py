@@ -27,6 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 from _domain_validation import (
     MEASUREMENT_TARGETS,
     load_series,
+    stray_light_spec,
     summarise,
     validate_clip,
     validate_table_clip,
@@ -156,12 +157,5 @@ def test_table_rough_pad_under_stray_light():
     """Rough pad at 1 bar on the load series' textured field, 15 % stray light: full
     contact is 1 - R at most 0.87 dark instead of 0.98; the measured area must not
     assume otherwise. Tolerance 8 %: the issue's p95 for sub-pixel junctions."""
-    row = validate_table_clip("rough pad, stray light", _stray_spec())
+    row = validate_table_clip("rough pad, stray light", stray_light_spec())
     _check(row, 8.0)
-
-
-def _stray_spec():
-    from _domain_validation import load_series_spec
-
-    pad = load_series_spec(1.0, n_frames=3)
-    return dataclasses.replace(pad, camera=dataclasses.replace(pad.camera, stray_light=0.15))
