@@ -25,6 +25,7 @@ from tir_contact.features import _fit_offset
 from tir_contact.flatfield import Reference, darkness
 from tir_contact.frame import FrameAnalyser
 from tir_contact.io import open_footage
+from tir_contact.measure import EDGE_PX, ZONE_PX, frame_area
 from tir_contact.prepare import prepare_video
 from tir_contact.segment import (
     _box_and_counts,
@@ -173,7 +174,32 @@ def test_one_path_is_a_direct_numpy_darkness_threshold_and_labelling(clip, as_fl
                 np.testing.assert_allclose(result.regions["mean_darkness"][r],
                                            d64[pix].mean(), rtol=0, atol=1e-5)
             seen += int(keep.sum() > 0)
+            # the area reads the box round the seeds and the contact, with the raw tests
+            # as its pixels: the same as frame_area on the whole frame's float32 darkness
+            # and that box found by numpy
+            want = _boxed_area(frame, setup, analyser.step.normalise)
+            for col, px in zip(("contact_area_mm2", "contact_area_low_mm2",
+                                "contact_area_high_mm2"), want, strict=True):
+                assert result.row[col] == pytest.approx(px * setup.mm_per_px ** 2,
+                                                        rel=1e-12, abs=1e-15), (i, col)
     assert seen > 10  # the clip shows contact in most sampled frames
+
+
+def _boxed_area(frame, setup, normalise):
+    """frame_area on the float32 darkness of the whole frame, in the box round the seeds
+    and the contact grown by the zone (px: area, low, high)."""
+    model = setup.view.area_model
+    d = normalise(frame)
+    with np.errstate(invalid="ignore"):
+        on = (d >= model.seed) | (d >= model.threshold)
+    rows, cols = np.flatnonzero(on.any(axis=1)), np.flatnonzero(on.any(axis=0))
+    if rows.size == 0:
+        return 0.0, 0.0, 0.0
+    g = ZONE_PX + EDGE_PX + 1
+    box = (slice(max(rows[0] - g, 0), min(rows[-1] + 1 + g, d.shape[0])),
+           slice(max(cols[0] - g, 0), min(cols[-1] + 1 + g, d.shape[1])))
+    a = frame_area(d, model, box)
+    return a.area_px, a.low_px, a.high_px
 
 
 def test_the_peak_window_option_sets_where_the_front_peak_is_searched(tmp_path):

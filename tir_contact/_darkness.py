@@ -118,6 +118,11 @@ class ContactTest:
         self._raw: dict[str, RawContactTest | None] = {}  # by dtype character
         self._buf: np.ndarray | None = None
 
+    @property
+    def last(self) -> np.ndarray | None:
+        """The last call's result (the reused buffer), None before the first."""
+        return self._buf
+
     def __call__(self, frame: np.ndarray) -> np.ndarray:
         """The contact pixels of `frame` (bool; valid until the next call)."""
         if self._buf is None or self._buf.shape != frame.shape:

@@ -94,7 +94,6 @@ LOCAL_PX = 2 * EDGE_PX + 2
 BAND_SIGMAS = 2.0
 
 _CROSS3 = np.ones((3, 3), np.uint8)
-_DEEP = np.ones((5, 5), np.uint8)
 _EDGE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * EDGE_PX + 1,) * 2)
 ZONE_PX = 8
 _ZONE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ZONE_PX + 1,) * 2)
@@ -261,12 +260,12 @@ def _resolved(mask: np.ndarray) -> np.ndarray:
     seen below the resolution, and unmixed)."""
     u8 = mask.view(np.uint8) if mask.dtype == np.bool_ else mask.astype(np.uint8)
     return cv2.morphologyEx(u8, cv2.MORPH_OPEN, _CROSS3, borderType=cv2.BORDER_CONSTANT,
-                            borderValue=0).astype(bool)
+                            borderValue=0).view(np.bool_)
 
 
 def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
-    """Darkness of the pixels at least 2 px deep inside the regions above `level` (their
-    5 x 5 neighbourhood all reaches it: a blur of up to a pixel has left them)."""
+    """Darkness of the pixels inside the regions above `level` whose 3 x 3 neighbourhood
+    all reaches it (a blur of up to a pixel has left them)."""
     full = []
     for d in samples:
         with np.errstate(invalid="ignore"):
@@ -412,7 +411,7 @@ class FrameArea:
 
 
 def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved: np.ndarray,
-                   model: AreaModel) -> np.ndarray:
+                   model: AreaModel, finite: np.ndarray) -> np.ndarray:
     """The seed pixels that are contact: those within :data:`ZONE_PX` of an anchor (resolved
     contact, or a region above the half-contact threshold of ``min_cluster_px`` pixels at
     least that the image border cuts, too thin to be resolved only because the view ends
@@ -430,7 +429,7 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     if model.static and model.contact_source != "assumed":  # dust is dark here: resolved
         return near                                      # contact shows where contact is
     n, lab = cv2.connectedComponents(seeds.view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
-    inside = seeds & np.isfinite(d)
+    inside = seeds & finite
     excess = np.bincount(lab[inside], weights=d[inside] - model.offset, minlength=n)
     size = np.bincount(lab[inside], minlength=n)
     # a static scene's free surface keeps its dust, bubbles and scratches: a cluster is
@@ -465,32 +464,40 @@ def _clusters(mask: np.ndarray, min_px: int) -> np.ndarray:
     return keep[lab]
 
 
-def _resolved_area(d: np.ndarray, finite: np.ndarray, resolved: np.ndarray,
-                   zone_res: np.ndarray, b: float, c: float) -> float:
-    """Area (px) of resolved contact: its deep interior (pixels :data:`EDGE_PX` or more
-    inside a resolved region) counted, every pixel one (a contact's darkness may vary
-    inside it, as with pressure), and its edge band (`zone_res` less the deep interior)
-    unmixed against the mean darkness of the deep pixels within :data:`LOCAL_PX` of it
-    (where the blur has left the full darkness), or against `c` where there is none."""
+def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b: float,
+                   c: float, t_lo: float) -> tuple[float, int]:
+    """Area (px) of resolved contact, and its pixels at or above `t_lo`: its deep interior
+    (pixels :data:`EDGE_PX` or more inside a resolved region) counted, every pixel one (a
+    contact's darkness may vary inside it, as with pressure), and its edge band (`zone_res`
+    less the deep interior) unmixed against the mean darkness of the deep pixels within
+    :data:`LOCAL_PX` of it (where the blur has left the full darkness), or against `c`
+    where there is none.
+
+    The deep interior lies inside `resolved`, at or above the half-contact threshold (so
+    at or above `t_lo`, which is at most that threshold) and measured; only the band's
+    pixels are read one by one.
+    """
     if not resolved.any():
-        return 0.0
+        return 0.0, 0
     deep = cv2.erode(resolved.view(np.uint8), _EDGE, borderType=cv2.BORDER_CONSTANT,
                      borderValue=0)
-    deep_b = deep.astype(bool) & finite
-    band = zone_res & ~deep_b
-    n_deep = int(np.count_nonzero(deep_b))
-    if not band.any():
-        return float(n_deep)
+    n_deep = cv2.countNonZero(deep)
+    band = np.flatnonzero(zone_res & ~deep.view(np.bool_))
+    if band.size == 0:
+        return float(n_deep), n_deep
     size = (2 * LOCAL_PX + 1,) * 2
-    w = cv2.boxFilter(deep_b.astype(np.float32), -1, size, normalize=False,
-                      borderType=cv2.BORDER_CONSTANT)
-    v = cv2.boxFilter(np.where(deep_b, d, 0).astype(np.float32), -1, size, normalize=False,
-                      borderType=cv2.BORDER_CONSTANT)
-    w_b, v_b = w[band], v[band]
+    # deep pixels and their summed darkness in each pixel's neighbourhood
+    w = cv2.boxFilter(deep, cv2.CV_16U, size, normalize=False, borderType=cv2.BORDER_CONSTANT)
+    v = cv2.boxFilter(cv2.copyTo(d, deep, np.zeros(d.shape, np.float32)), -1, size,
+                      normalize=False, borderType=cv2.BORDER_CONSTANT)
+    w_b = w.ravel().take(band).astype(np.float32)
+    v_b = v.ravel().take(band)
+    d_b = d.ravel().take(band) if d.flags.c_contiguous else d[np.unravel_index(band, d.shape)]
     # enough deep pixels near: their mean; else the video's c
     full = np.where(w_b >= MIN_LOCAL_PX, v_b / np.maximum(w_b, 1.0), c)
     scale = np.maximum(full - b, 1e-3)
-    return n_deep + float(np.sum((d[band] - b) / scale, dtype=np.float64))
+    area = n_deep + float(np.sum((d_b - b) / scale, dtype=np.float64))
+    return area, n_deep + int(np.count_nonzero(d_b >= t_lo))
 
 
 def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float, float]:
@@ -508,8 +515,9 @@ def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float,
     return total, math.hypot(sd_sum, sd_b) / c
 
 
-def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None
-               ) -> FrameArea:
+def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None, *,
+               half: np.ndarray | None = None, seeds: np.ndarray | None = None,
+               finite: np.ndarray | None = None) -> FrameArea:
     """Contact area of one frame's darkness `d` (module notes), with its error bar.
 
     Parameters
@@ -520,6 +528,10 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     box : (slice, slice), optional
         Only this part of the frame holds contact (the rest is free surface: no seed
         there); the frame's darkness budget is then not drawn on.
+    half, seeds, finite : ndarray of bool, optional
+        ``d >= model.threshold``, ``d >= model.seed`` and ``isfinite(d)``, when already
+        known (the analysis tests the raw grey values,
+        :class:`tir_contact._darkness.ContactTest`), of `d`'s shape.
 
     Returns
     -------
@@ -536,44 +548,47 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     (2400, True)
     """
     whole = box is None
+    seed = model.seed
     if box is not None:
-        if d.shape == model.seed.shape:
-            d = d[box]
-        seed = model.seed[box]
-    else:
-        seed = model.seed
+        full = d.shape == seed.shape
+        # one copy of the box: every read below is of contiguous memory
+        d = np.ascontiguousarray(d[box]) if full else d
+        half, seeds, finite = (x[box] if x is not None and full else x
+                               for x in (half, seeds, finite))
+        seed = seed[box]
     c, b = model.contact_darkness, model.offset
     with np.errstate(invalid="ignore"):
-        seeds = d >= seed
-        half = d >= model.threshold
+        seeds = d >= seed if seeds is None else seeds.copy()
+        if half is None:
+            half = d >= model.threshold
+    if finite is None:
+        finite = np.isfinite(d)
     resolved = _resolved(half)
-    edge = cv2.dilate(resolved.view(np.uint8), _EDGE).astype(bool)
+    edge = cv2.dilate(resolved.view(np.uint8), _EDGE).view(np.bool_)
     seeds &= ~edge  # seeds on a resolved region's edge are its own
     if seeds.any():
-        seeds = _kept_clusters(d, seeds, half, resolved, model)
+        seeds = _kept_clusters(d, seeds, half, resolved, model, finite)
         # the unresolved contact's envelope: its seeds, their neighbours and the gaps
         # between them narrower than the edge margin (every pixel in it unmixed)
         near = cv2.morphologyEx(cv2.dilate(seeds.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
-                                _EDGE).astype(bool)
+                                _EDGE).view(np.bool_)
     else:
         near = seeds
-    finite = np.isfinite(d)
     zone_res = edge & finite
     zone_un = near & ~edge & finite
     # faint contact beyond the zone: the excess darkness of a ring around it
     zone = zone_res | zone_un
-    ring = cv2.dilate(zone.view(np.uint8), _EDGE).astype(bool) & ~zone & finite
+    ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & ~zone & finite
     missed = max(float(np.sum(d[ring] - b, dtype=np.float64)), 0.0) / c
-    part_res = _resolved_area(d, finite, resolved, zone_res, b, c)
-    excess_un = float(np.sum(d[zone_un] - b, dtype=np.float64))
-    n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(zone_un))
     # the resolved part over the plausible decisions: counted at any threshold between the
     # free surface's reach (at least c / 4) and 3 c / 4, or unmixed
     t_lo = max(model.seed_median, c / 4) if math.isfinite(model.seed_median) else c / 4
     t_lo = min(t_lo, model.threshold)
     t_hi = max(0.75 * c, model.threshold)
+    part_res, res_hi = _resolved_area(d, resolved, zone_res, b, c, t_lo)
+    excess_un = float(np.sum(d[zone_un] - b, dtype=np.float64))
+    n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(zone_un))
     with np.errstate(invalid="ignore"):
-        res_hi = int(np.count_nonzero(zone_res & (d >= t_lo)))
         res_lo = int(np.count_nonzero(resolved & (d >= t_hi)))
     # the unresolved part over c's range; both parts' noise: the free surface's fluctuation
     # summed over the zone (correlated over corr_px) and the uncertainty of b

@@ -41,7 +41,13 @@ from tir_contact.measure import EDGE_PX, ZONE_PX, AreaModel, FrameArea, area_mod
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
 from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
-from tir_contact.segment import FrameContact, _box_and_counts, estimate_contrast, segment_frame
+from tir_contact.segment import (
+    FrameContact,
+    _box_and_counts,
+    contact_box,
+    estimate_contrast,
+    segment_frame,
+)
 from tir_contact.view import FrameResult, fully_in_view, read_reference_file
 
 __all__ = ["TirFrames", "TirView"]
@@ -136,7 +142,8 @@ class TirFrames:
     """The per-frame step of a TIR video: ``frames(k, frame) -> FrameResult``.
 
     Keeps what does not change between frames: the contact test, the box darkness image,
-    the valid-pixel counts of the reference's mask.
+    the valid-pixel counts of the reference's mask, and whether the area reads only a box
+    around the contact (:meth:`extra_columns`).
     """
 
     def __init__(self, view: TirView, setup: Any, options: AnalysisOptions) -> None:
@@ -149,30 +156,43 @@ class TirFrames:
         self.want_regions = options.regions == "always" or (
             options.regions == "auto" and setup.layout.element_lengths_mm is None
         )
-        self._threshold = view.threshold
         self._test = ContactTest(self.normalise, view.threshold)
         self._box = BoxDarkness(self.normalise, setup.shape)
         self._valid_counts = ValidCounts()  # the reference's mask is fixed within a video
-        model = view.area_model  # its seed level, tested like contact (per pixel)
-        self._seeds = ContactTest(self.normalise, model.seed) if model is not None else None
+        model = view.area_model
+        # a fixed camera whose free surface separates from contact: the area reads only
+        # the box around the seed pixels (tested like contact, per pixel) and the contact
+        self._seeds = (ContactTest(self.normalise, model.seed)
+                       if model is not None and not model.static and model.separation > 1.0
+                       else None)
+        self._area_box: tuple[slice, slice] | None = None  # this frame's, with the seeds
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, FrameContact, tuple | None]:
         """Steps 1 to 3: the darkness (in the box, NaN elsewhere), the contact, and the
-        column sums of the box's darkness (None without contact)."""
+        column sums of the box's darkness (None without contact).
+
+        Where the area reads a box (:meth:`extra_columns`), the darkness is computed in it
+        too (it holds the contact's box and the features' columns)."""
         raw = self._test(frame)  # a reused buffer: `raw` does not outlive the frame
         box, counts = _box_and_counts(raw)
+        area_box = None
+        if self._seeds is not None:
+            area_box = _union(contact_box(self._seeds(frame)), box, frame.shape,
+                              ZONE_PX + EDGE_PX + 1)
+        self._area_box = area_box
+        threshold = self.view.threshold
         if box is None:  # no contact
-            d = self._box.clear()
-            return d, FrameContact(raw.shape, self._threshold, 0, d), None
+            d = self._box.clear() if area_box is None else self._box.fill(frame, *area_box)
+            return d, FrameContact(raw.shape, threshold, 0, d), None
         # the rows and (widened) columns the features read
         rows = box[0]
         cols = slice(max(box[1].start - EDGE_MARGIN_PX, 0),
                      min(box[1].stop + EDGE_MARGIN_PX, raw.shape[1]))
-        d = self._box.fill(frame, rows, cols)
+        d = self._box.fill(frame, *(area_box or (rows, cols)))
         # the features' column sums, while the darkness is still in the cache
         sums = (rows.start, rows.stop, cols.start, cv2.reduce(
             d[rows, cols], 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel())
-        contact = segment_frame(d, threshold=self._threshold, raw=raw, box=box, counts=counts,
+        contact = segment_frame(d, threshold=threshold, raw=raw, box=box, counts=counts,
                                 min_area_px=self.options.min_area_px)
         return d, contact, sums
 
@@ -206,16 +226,16 @@ class TirFrames:
         contact area as a measurement with its error bar
         (:func:`tir_contact.measure.frame_area`).
 
-        `d` holds the darkness in the contact's box (widened by
-        :data:`~tir_contact.features.EDGE_MARGIN_PX` columns) and NaN elsewhere; `contact`
-        is the segmentation (``contact.box``, ``contact.box_labels``); the video's setup is
-        ``self.setup``, its model ``self.view.area_model``.
+        `d` is the darkness :meth:`segment` returned for `frame` (NaN outside the box it
+        computed); `contact` the segmentation; the video's setup is ``self.setup``, its
+        model ``self.view.area_model``.
 
         A fixed camera whose free surface separates from contact: only the box around the
         seed pixels (:class:`ContactTest` at the model's per-pixel seed level: on the raw
         grey values where the dtype allows) and the contact, grown by the zone around
-        contact, is read; otherwise (a static scene, or a free surface that reaches past
-        half of full contact) the whole frame, whose darkness budget then counts.
+        contact, is read, with the pixels :meth:`segment` tested; otherwise (a static
+        scene, or a free surface that reaches past half of full contact) the whole frame,
+        whose darkness budget then counts.
         """
         model = self.view.area_model
         px2 = self.setup.mm_per_px ** 2
@@ -223,12 +243,17 @@ class TirFrames:
             area = row["contact_area_mm2"]
             row["contact_area_low_mm2"] = row["contact_area_high_mm2"] = area
             return
-        if not model.static and model.separation > 1.0:
-            seeds = self._seeds(frame)
-            box = _union(_box_and_counts(seeds)[0], contact.box, frame.shape,
-                         ZONE_PX + EDGE_PX + 1)
-            a = (FrameArea(0.0, 0.0, 0.0, 0, 0.0) if box is None
-                 else frame_area(self.normalise.region(frame, *box), model, box))
+        if self._seeds is not None:
+            box = self._area_box
+            if box is None:
+                a = FrameArea(0.0, 0.0, 0.0, 0, 0.0)
+            else:
+                # the tests of the raw grey values are the darkness's own, pixel for pixel;
+                # an integer frame's darkness is NaN exactly at the excluded pixels
+                a = frame_area(d, model, box, seeds=self._seeds.last,
+                               half=(self._test.last if self.view.threshold == model.threshold
+                                     else None),
+                               finite=self.normalise.valid if frame.dtype.kind in "ui" else None)
         else:
             a = frame_area(self.normalise(frame), model)
         row["contact_area_mm2"] = a.area_px * px2
