@@ -106,18 +106,17 @@ MAX_EDGE_PX = 8.0
 
 
 def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
-           lit: np.ndarray) -> np.ndarray:
+           lit: np.ndarray, grad: np.ndarray) -> np.ndarray:
     """The sharp-edged part of the candidates `cand`: each 8-connected region whose edge
     width (:func:`_edge_widths`) is at most :data:`MAX_EDGE_PX`; of a soft region (light
     falling off, a fold), the sharp regions darker than half of full contact inside it (a
     contact that lies in the fold), with the soft region's pixels within
-    :data:`MARGIN_PX` of them."""
+    :data:`MARGIN_PX` of them. `grad` is :func:`_gradient` of `smooth`."""
     if not cand.any():
         return cand
     depth = closed - smooth
     with np.errstate(divide="ignore", invalid="ignore"):
         d = np.where(closed > 0, depth / np.maximum(closed, 1e-6), 0.0)
-    grad = _gradient(smooth)
     n, lab = cv2.connectedComponents(cand.astype(np.uint8), connectivity=8, ltype=cv2.CV_32S)
     keep = _edge_widths(lab, n, grad, depth, lit) <= MAX_EDGE_PX
     keep[0] = False
@@ -178,11 +177,29 @@ def _group_medians(keys: np.ndarray, values: np.ndarray, n: int
     return med, has
 
 
+#: Widest disc (px, on the working image) of a closing done at the working scale; a wider
+#: one works on block maxima (:func:`_closing`). Discs up to this size keep the exact
+#: closing (a disc grows past it only for contact that fills most of the image).
+MAX_DISC_PX = 201
+
+
 def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
     """Grey closing with a disc of `size_px`, on a shrunk copy, back at full size."""
     h, w = smooth.shape
     small, scale = shrink(smooth)
     d = max(3, round(size_px * scale) | 1)
+    # A wider disc works on the maxima of pool x pool blocks with a disc shrunk alike: the
+    # closing is an upper envelope, which block maxima keep (block means lowered it where
+    # texture peaks set it), and its shape varies over the disc's size, not the pool's
+    # (a 401 px disc took 1 s, 30x a 101 px one; tests/test_closing.py holds it to the
+    # full-resolution closing).
+    pool = math.ceil(d / MAX_DISC_PX)
+    hs, ws = small.shape
+    if pool > 1:
+        hp, wp = -(-hs // pool) * pool, -(-ws // pool) * pool
+        small = np.pad(small, ((0, hp - hs), (0, wp - ws)), mode="edge").reshape(
+            hp // pool, pool, wp // pool, pool).max(axis=(1, 3))
+        d = max(3, round(d / pool) | 1)
     disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d))
     # The image is extended past its border by odd reflection (2 f(border) - f(inside)),
     # which continues a light falling towards the border: a mirror or a constant would
@@ -195,6 +212,8 @@ def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
                      np.pad(small, pad, mode="edge"))
     closed = cv2.morphologyEx(big, cv2.MORPH_CLOSE, disc, borderType=cv2.BORDER_REPLICATE)
     closed = cv2.GaussianBlur(closed, (0, 0), 1.0)[pad:-pad, pad:-pad]
+    if pool > 1:
+        closed = cv2.resize(closed, (wp, hp), interpolation=cv2.INTER_LINEAR)[:hs, :ws]
     if scale < 1.0:
         closed = cv2.resize(closed, (w, h), interpolation=cv2.INTER_LINEAR)
     return np.maximum(closed, smooth)  # a closing never lies below the image
@@ -208,6 +227,7 @@ def free_surface(
     candidate_darkness: float = 0.1,
     size_px: int = 101,
     grow: bool = True,
+    texture: bool = True,
 ) -> FreeSurface:
     """Estimate the contact-free surface of an image that shows contact (module notes).
 
@@ -227,6 +247,9 @@ def free_surface(
     grow : bool
         Let the disc grow with the widest candidate (False: keep `size_px`, e.g. per frame
         of a video whose contact size is known from its first frames).
+    texture : bool
+        Measure the texture the estimate does not follow
+        (:attr:`FreeSurface.texture_sigma`; False: 0 and 1, where it is not used).
 
     Returns
     -------
@@ -252,6 +275,7 @@ def free_surface(
     smooth = cv2.GaussianBlur(work, (0, 0), SMOOTH_SIGMA_PX, borderType=cv2.BORDER_REPLICATE)
     size = max(3, int(size_px) | 1)
     largest = 2 * max(img.shape) + 1
+    grad = _gradient(smooth)  # the candidates' edge widths, at any disc size
 
     def candidates(size: int) -> tuple[np.ndarray, np.ndarray, float]:
         closed = _closing(smooth, size)
@@ -261,7 +285,7 @@ def free_surface(
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(closed > 0, 1.0 - smooth / np.maximum(closed, 1e-6), 0.0)
         cand = _fill_holes(((d > candidate_darkness) & lit_mask).astype(np.uint8)).astype(bool)
-        cand = _sharp(cand, smooth, closed, lit_mask)
+        cand = _sharp(cand, smooth, closed, lit_mask, grad)
         widest = 0.0
         if cand.any():
             dist = cv2.distanceTransform(cand.astype(np.uint8), cv2.DIST_L2, 5)
@@ -294,7 +318,7 @@ def free_surface(
     _fit_over_contacts(surface, smooth, margin, near, lit_mask, widest)
     if contact_is == "bright":
         surface = (top - surface).astype(np.float32)
-    tex, tex_corr = _texture(smooth, lit_mask & ~margin)
+    tex, tex_corr = _texture(smooth, lit_mask & ~margin) if texture else (0.0, 1.0)
     return FreeSurface(surface, cand, size, widest, tex, tex_corr)
 
 
@@ -313,8 +337,9 @@ def _texture(smooth: np.ndarray, free: np.ndarray) -> tuple[float, float]:
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(free & (field > 0), smooth / np.maximum(field, 1e-6) - 1.0, np.nan)
     values = t[np.isfinite(t)]
-    sigma = float(1.4826 * np.median(np.abs(values - np.median(values))))
-    return sigma, correlation_area([t.astype(np.float32)], float(np.median(values)), sigma)
+    mid = float(np.median(values))
+    sigma = float(1.4826 * np.median(np.abs(values - mid)))
+    return sigma, correlation_area([t], mid, sigma)
 
 
 #: Contacts (largest first) whose free surface is fitted by a quadratic; the rest keep the
@@ -640,10 +665,10 @@ def tir_reference(
     if find_lit:
         lit = find_lit_zone(bright) if contact_is == "dark" else whole_frame(shape)
     mask = lit.mask
+    tex = (0.0, 1.0)  # the texture a static scene's estimate does not follow (below)
     if image is not None:
         free = np.asarray(image, np.float32)
         mode, method, cand = "fixed", "file", np.zeros(shape, bool)
-        tex = (0.0, 1.0)
     else:
         mode = camera
         if mode == "auto":
@@ -651,17 +676,16 @@ def tir_reference(
                 frames, median, bright, mask, min_darkness, min_block_fraction, contact_is)
                     else "follows")
         cand = np.zeros(shape, bool)
-        tex = (0.0, 1.0)
         if mode == "fixed" and len(frames) >= 5:
             free, method = bright, "percentile"
             # does the percentile image still hold the block (a slow pass)? One closing
             # tells; the grown estimate only when it does
             need = min_block_fraction * max(1, mask.sum())
             fs = free_surface(bright, mask, contact_is=contact_is,
-                              candidate_darkness=min_darkness, grow=False)
+                              candidate_darkness=min_darkness, grow=False, texture=False)
             if fs.candidates.sum() > need:
                 fs = free_surface(bright, mask, contact_is=contact_is,
-                                  candidate_darkness=min_darkness)
+                                  candidate_darkness=min_darkness, texture=False)
             if fs.candidates.sum() > need:
                 free, cand = fs.image, fs.candidates
                 method = "percentile, the block it still holds replaced by a fitted surface"
