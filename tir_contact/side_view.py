@@ -29,7 +29,7 @@ from tir_contact.side import (
     side_darkness,
     side_frame_features,
 )
-from tir_contact.view import FrameResult, fully_in_view, read_reference_file
+from tir_contact.view import FrameResult, fully_in_view, read_reference_file, wants_regions
 
 __all__ = ["SideFrames", "SideView"]
 
@@ -112,9 +112,7 @@ class SideFrames:
     def __init__(self, view: SideView, setup: Any, options: AnalysisOptions) -> None:
         self.view = view
         self.setup = setup
-        self.want_regions = options.regions == "always" or (
-            options.regions == "auto" and setup.layout.element_lengths_mm is None
-        )
+        self.want_regions = wants_regions(options, setup)
         # the ice line of the (levelled) reference, fixed for the video
         self.ice_y_px: float | None = (
             ice_line_y_px(view.reference.image, contact_is=setup.contact_is)

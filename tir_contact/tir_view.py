@@ -48,7 +48,7 @@ from tir_contact.segment import (
     estimate_contrast,
     segment_frame,
 )
-from tir_contact.view import FrameResult, fully_in_view, read_reference_file
+from tir_contact.view import FrameResult, fully_in_view, read_reference_file, wants_regions
 
 __all__ = ["TirFrames", "TirView"]
 
@@ -153,9 +153,7 @@ class TirFrames:
         self.normalise = Normaliser(view.reference, setup.contact_is)
         rim = view.tir.lit.rim
         self._rim = rim if rim is not None and rim.any() else None
-        self.want_regions = options.regions == "always" or (
-            options.regions == "auto" and setup.layout.element_lengths_mm is None
-        )
+        self.want_regions = wants_regions(options, setup)
         self._test = ContactTest(self.normalise, view.threshold)
         self._box = BoxDarkness(self.normalise, setup.shape)
         self._valid_counts = ValidCounts()  # the reference's mask is fixed within a video

@@ -23,7 +23,7 @@ from tir_contact._readers import FootageError
 from tir_contact.features import ElementRow, element_records
 from tir_contact.flatfield import Reference
 
-__all__ = ["FrameResult", "View", "fully_in_view", "read_reference_file"]
+__all__ = ["FrameResult", "View", "fully_in_view", "read_reference_file", "wants_regions"]
 
 
 @dataclass(slots=True)
@@ -94,6 +94,13 @@ class View(Protocol):
     def summary(self) -> dict[str, Any]:
         """The view's part of ``summary.json`` (after ``camera``, before ``meta``)."""
         ...
+
+
+def wants_regions(options: Any, setup: Any) -> bool:
+    """Whether the results hold the contact regions (``regions.csv``): ``--regions always``,
+    or ``auto`` for footage whose element lengths are not known."""
+    return options.regions == "always" or (
+        options.regions == "auto" and setup.layout.element_lengths_mm is None)
 
 
 def fully_in_view(front_mm: float, setup: Any, margin_mm: float = 0.5) -> bool:
