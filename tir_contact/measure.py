@@ -617,6 +617,12 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         if model.separation <= 1.0 and budget - area > BAND_SIGMAS * sd_g:
             area = budget
             low = min(low, budget - BAND_SIGMAS * sd_g)
+        elif model.static:
+            # a static scene: the seeds near contact may be the ice's dust, bubbles and
+            # scratches, which its free surface keeps dark (they are chosen for being
+            # dark, so their excess is not zero-mean); the budget, with the free surface's
+            # mean (dust included) taken out everywhere, is the other plausible decision
+            low = min(low, budget - BAND_SIGMAS * sd_g)
         high = max(high, budget + BAND_SIGMAS * sd_g)
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))
