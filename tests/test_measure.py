@@ -265,3 +265,28 @@ def test_static_scene_bar_spans_dust_next_to_contact():
     a = frame_area(d, m)
     assert a.area_px > 1.1 * truth  # the local estimate keeps the dust beside contact
     assert a.low_px <= truth <= a.high_px
+
+
+def test_contact_at_the_rim_may_go_on_past_the_found_edge():
+    # A lit disc whose found edge lies 2 px inside the true half-light line (the rim band,
+    # 4 px, is the edge's stated tolerance); a contact stripe crosses the rim. The truth
+    # counts the stripe up to the true line: the bar's high end holds it, the area (what
+    # is seen) is the stripe inside the found zone.
+    from tir_contact.illumination import LitZone, _rim
+    from tir_contact.tir_view import _rim_band
+
+    yy, xx = np.mgrid[:160, :200]
+    r2 = (xx - 100) ** 2 + (yy - 80) ** 2
+    found, true_zone = r2 < 60 ** 2, r2 < 62 ** 2
+    stripe = (np.abs(xx - 100) < 12) & (yy < 60)  # reaches past the disc's top
+    rng = np.random.default_rng(3)
+    d = rng.normal(0.0, 0.02, found.shape).astype(np.float32)
+    d[stripe] += 0.9
+    d[~found] = np.nan
+    lit = LitZone(found, _rim(found, 4), "found")
+    m = area_model([d], np.full(d.shape, 0.02, np.float32), rim=_rim_band(lit))
+    a = frame_area(d, m)
+    seen, truth = int((stripe & found).sum()), int((stripe & true_zone).sum())
+    assert abs(a.area_px - seen) < 0.02 * seen  # 1 px of blur-free edge: 2 %
+    assert a.high_px >= truth > seen
+    assert a.high_px < truth + 2 * (truth - seen) + 0.1 * seen  # about the band, not more

@@ -141,6 +141,11 @@ class AreaModel:
         See :func:`area_model`.
     zone_sigma, zone_corr_px : float
         See :func:`area_model`.
+    rim, beyond : (M, N) ndarray of bool or None
+        The lit zone's rim band and the unlit pixels within `rim_px` outside it; see
+        :func:`area_model`.
+    rim_px : int
+        The rim band's width.
     """
 
     offset: float
@@ -164,6 +169,9 @@ class AreaModel:
     static: bool = False
     zone_sigma: float = 0.0
     zone_corr_px: float = 1.0
+    rim: np.ndarray | None = field(default=None, repr=False)
+    beyond: np.ndarray | None = field(default=None, repr=False)
+    rim_px: int = 0
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -279,7 +287,8 @@ def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
 def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                contrast: float | None = None, min_cluster_px: int = 4,
                static: bool = False, zone_sigma: float = 0.0,
-               zone_corr_px: float = 1.0) -> AreaModel:
+               zone_corr_px: float = 1.0,
+               rim: tuple[np.ndarray, np.ndarray, int] | None = None) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -304,6 +313,12 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         estimate cannot follow over a contact
         (:attr:`tir_contact.reference.FreeSurface.texture_sigma`); the error bar adds it
         over the contact's pixels.
+    rim : (rim band, beyond, width px), optional
+        The lit zone's rim band (:attr:`tir_contact.illumination.LitZone.rim`), the unlit
+        pixels within its width outside the zone, and the width. The zone's edge is the
+        rim's half-light line, placed on the image to within the band: contact in the
+        band may go on that far beyond it, and the error bar's high end holds it
+        (:func:`frame_area`).
 
     Returns
     -------
@@ -386,7 +401,19 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     return AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c, c_lo,
                      c_hi, source,
                      n_full, threshold, separation, notes, int(min_cluster_px), bool(static),
-                     float(zone_sigma), float(zone_corr_px))
+                     float(zone_sigma), float(zone_corr_px),
+                     *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)))
+
+
+def _past_rim(zone: np.ndarray, rim: np.ndarray, beyond: np.ndarray, rim_px: int) -> int:
+    """Unlit pixels within `rim_px` of the contact `zone` in the lit zone's `rim` band:
+    where contact at the rim may go on unseen, the half-light line being placed to within
+    the band."""
+    touch = zone & rim
+    if not touch.any():
+        return 0
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rim_px + 1,) * 2)
+    return int(np.count_nonzero(cv2.dilate(touch.view(np.uint8), disc).view(np.bool_) & beyond))
 
 
 @dataclass(frozen=True)
@@ -610,6 +637,9 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         low = 0.0
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
+    if model.rim is not None:  # contact in the rim band may go on past the found edge
+        high += _past_rim(zone, *(m if box is None else m[box]
+                                 for m in (model.rim, model.beyond)), model.rim_px)
     if whole:  # the whole frame: its darkness budget (module notes)
         budget, sd_g = _budget(d, finite, model)
         # where the free surface reaches past half of full contact, the seeds cannot see

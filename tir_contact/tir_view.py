@@ -36,7 +36,7 @@ from tir_contact._percentile import pixelwise_percentile
 from tir_contact._readers import FootageError
 from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows
 from tir_contact.flatfield import Reference
-from tir_contact.illumination import lit_zone_from_file
+from tir_contact.illumination import LitZone, lit_zone_from_file
 from tir_contact.measure import EDGE_PX, ZONE_PX, AreaModel, FrameArea, area_model, frame_area
 from tir_contact.options import AnalysisOptions
 from tir_contact.reference import TirReference, measurable, tir_reference
@@ -336,7 +336,22 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     return area_model(darkness, sigma, contrast=options.contrast,
                       min_cluster_px=options.min_area_px,
                       static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
-                      zone_corr_px=tref.texture_corr_px)
+                      zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit))
+
+
+def _rim_band(lit: LitZone) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """The lit zone's rim band, the unlit pixels within its width outside the zone (not
+    the frame border), and the width (the rim pixels' largest depth from the edge, px);
+    None without a rim."""
+    rim = lit.rim
+    if rim is None or not rim.any():
+        return None
+    depth = cv2.distanceTransform(np.pad(lit.mask, 1, mode="edge").view(np.uint8),
+                                  cv2.DIST_L2, 3)[1:-1, 1:-1]
+    width = max(1, round(float(depth[rim].max())))
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * width + 1,) * 2)
+    beyond = cv2.dilate(lit.mask.view(np.uint8), disc).view(np.bool_) & ~lit.mask
+    return rim, beyond, width
 
 
 def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) -> float:
