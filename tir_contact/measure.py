@@ -35,7 +35,9 @@ rubber on ice or glass (a contact reflects 2-4 % of the light; Fresnel), within
 The error bar (:func:`frame_area`): the resolved count over the plausible decisions
 (thresholds from the free surface's reach, at least ``c / 4``, to ``3 c / 4``), and the
 unmixed area over ``c``'s range plus twice its noise: the free surface's fluctuation summed
-over the unmixed pixels (correlated over ``corr_px``) and the uncertainty of ``b``.
+over the unmixed pixels (correlated over ``corr_px``) and the uncertainty of ``b``; in a
+static scene down to the frame's darkness budget; and up to the unlit pixels that contact
+in the lit zone's rim band may cover past the found edge.
 """
 
 from __future__ import annotations
