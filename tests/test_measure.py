@@ -290,3 +290,25 @@ def test_contact_at_the_rim_may_go_on_past_the_found_edge():
     assert abs(a.area_px - seen) < 0.02 * seen  # 1 px of blur-free edge: 2 %
     assert a.high_px >= truth > seen
     assert a.high_px < truth + 2 * (truth - seen) + 0.1 * seen  # about the band, not more
+
+
+def test_rim_term_is_the_same_in_the_contact_box():
+    # the analysis reads a box round the contact (grown by 11 px); a rim band wider than
+    # that (19 px: 1 % of a 1900 px frame) still counts its whole reach past the box
+    from tir_contact.illumination import LitZone, _rim
+    from tir_contact.tir_view import _rim_band
+
+    yy, xx = np.mgrid[:300, :400]
+    found = (xx - 200) ** 2 + (yy - 150) ** 2 < 120 ** 2
+    stripe = (np.abs(xx - 200) < 12) & (yy < 100)
+    rng = np.random.default_rng(3)
+    d = rng.normal(0.0, 0.02, found.shape).astype(np.float32)
+    d[stripe] += 0.9
+    d[~found] = np.nan
+    m = area_model([d], np.full(d.shape, 0.02, np.float32),
+                   rim=_rim_band(LitZone(found, _rim(found, 19), "found")))
+    box = (slice(19, 111), slice(177, 224))  # the stripe's box in the lit zone, grown 11 px
+    whole = frame_area(d, m, (slice(0, 300), slice(0, 400)))
+    boxed = frame_area(d, m, box)
+    assert boxed.area_px == pytest.approx(whole.area_px, rel=1e-9)
+    assert boxed.high_px == pytest.approx(whole.high_px, rel=1e-9)

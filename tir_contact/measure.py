@@ -407,14 +407,24 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                      *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)))
 
 
-def _past_rim(zone: np.ndarray, rim: np.ndarray, beyond: np.ndarray, rim_px: int) -> int:
-    """Unlit pixels within `rim_px` of the contact `zone` in the lit zone's `rim` band:
-    where contact at the rim may go on unseen, the half-light line being placed to within
-    the band."""
+def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
+    """Unlit pixels within ``model.rim_px`` of the contact `zone` (of the frame, or of
+    ``frame[box]``) in the lit zone's rim band: where contact at the rim may go on unseen,
+    the half-light line being placed to within the band. Counted in the box grown by that
+    width (contact near the box's edge reaches past it)."""
+    rim, beyond, width = model.rim, model.beyond, model.rim_px
+    if box is not None:
+        h, w = rim.shape
+        (r0, r1), (c0, c1) = (box[0].indices(h)[:2], box[1].indices(w)[:2])
+        win = (slice(max(r0 - width, 0), min(r1 + width, h)),
+               slice(max(c0 - width, 0), min(c1 + width, w)))
+        grown = np.zeros((win[0].stop - win[0].start, win[1].stop - win[1].start), bool)
+        grown[r0 - win[0].start : r1 - win[0].start, c0 - win[1].start : c1 - win[1].start] = zone
+        zone, rim, beyond = grown, rim[win], beyond[win]
     touch = zone & rim
     if not touch.any():
         return 0
-    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rim_px + 1,) * 2)
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * width + 1,) * 2)
     return int(np.count_nonzero(cv2.dilate(touch.view(np.uint8), disc).view(np.bool_) & beyond))
 
 
@@ -640,8 +650,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
-        high += _past_rim(zone, *(m if box is None else m[box]
-                                 for m in (model.rim, model.beyond)), model.rim_px)
+        high += _past_rim(zone, model, box)
     if whole:  # the whole frame: its darkness budget (module notes)
         budget, sd_g = _budget(d, finite, model)
         # where the free surface reaches past half of full contact, the seeds cannot see
