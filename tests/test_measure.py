@@ -267,25 +267,35 @@ def test_static_scene_bar_spans_dust_next_to_contact():
     assert a.low_px <= truth <= a.high_px
 
 
+def _disc_with_stripe(h: int, w: int, radius: int, stripe_end: int, rim_px: int):
+    """A lit disc (found edge at `radius`, centred) whose rim band is `rim_px` wide, a contact
+    stripe (darkness 0.9, 23 px wide) from the frame's top to row `stripe_end` across its
+    rim, noise 0.02, NaN outside the disc; returns the darkness, the area model with the
+    rim band, the disc's squared-radius image and the stripe."""
+    from tir_contact.illumination import LitZone, _rim
+    from tir_contact.tir_view import _rim_band
+
+    yy, xx = np.mgrid[:h, :w]
+    r2 = (xx - w // 2) ** 2 + (yy - h // 2) ** 2
+    found = r2 < radius ** 2
+    stripe = (np.abs(xx - w // 2) < 12) & (yy < stripe_end)
+    rng = np.random.default_rng(3)
+    d = rng.normal(0.0, 0.02, found.shape).astype(np.float32)
+    d[stripe] += 0.9
+    d[~found] = np.nan
+    lit = LitZone(found, _rim(found, rim_px), "found")
+    m = area_model([d], np.full(d.shape, 0.02, np.float32), rim=_rim_band(lit))
+    return d, m, r2, stripe
+
+
 def test_contact_at_the_rim_may_go_on_past_the_found_edge():
     # A lit disc whose found edge lies 2 px inside the true half-light line (the rim band,
     # 4 px, is the edge's stated tolerance); a contact stripe crosses the rim. The truth
     # counts the stripe up to the true line: the bar's high end holds it, the area (what
     # is seen) is the stripe inside the found zone.
-    from tir_contact.illumination import LitZone, _rim
-    from tir_contact.tir_view import _rim_band
-
-    yy, xx = np.mgrid[:160, :200]
-    r2 = (xx - 100) ** 2 + (yy - 80) ** 2
-    found, true_zone = r2 < 60 ** 2, r2 < 62 ** 2
-    stripe = (np.abs(xx - 100) < 12) & (yy < 60)  # reaches past the disc's top
-    rng = np.random.default_rng(3)
-    d = rng.normal(0.0, 0.02, found.shape).astype(np.float32)
-    d[stripe] += 0.9
-    d[~found] = np.nan
-    lit = LitZone(found, _rim(found, 4), "found")
-    m = area_model([d], np.full(d.shape, 0.02, np.float32), rim=_rim_band(lit))
+    d, m, r2, stripe = _disc_with_stripe(160, 200, 60, 60, rim_px=4)
     a = frame_area(d, m)
+    found, true_zone = r2 < 60 ** 2, r2 < 62 ** 2
     seen, truth = int((stripe & found).sum()), int((stripe & true_zone).sum())
     assert abs(a.area_px - seen) < 0.02 * seen  # 1 px of blur-free edge: 2 %
     assert a.high_px >= truth > seen
@@ -295,18 +305,7 @@ def test_contact_at_the_rim_may_go_on_past_the_found_edge():
 def test_rim_term_is_the_same_in_the_contact_box():
     # the analysis reads a box round the contact (grown by 11 px); a rim band wider than
     # that (19 px: 1 % of a 1900 px frame) still counts its whole reach past the box
-    from tir_contact.illumination import LitZone, _rim
-    from tir_contact.tir_view import _rim_band
-
-    yy, xx = np.mgrid[:300, :400]
-    found = (xx - 200) ** 2 + (yy - 150) ** 2 < 120 ** 2
-    stripe = (np.abs(xx - 200) < 12) & (yy < 100)
-    rng = np.random.default_rng(3)
-    d = rng.normal(0.0, 0.02, found.shape).astype(np.float32)
-    d[stripe] += 0.9
-    d[~found] = np.nan
-    m = area_model([d], np.full(d.shape, 0.02, np.float32),
-                   rim=_rim_band(LitZone(found, _rim(found, 19), "found")))
+    d, m, _, _ = _disc_with_stripe(300, 400, 120, 100, rim_px=19)
     box = (slice(19, 111), slice(177, 224))  # the stripe's box in the lit zone, grown 11 px
     whole = frame_area(d, m, (slice(0, 300), slice(0, 400)))
     boxed = frame_area(d, m, box)

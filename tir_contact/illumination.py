@@ -88,6 +88,12 @@ def whole_frame(shape: tuple[int, int]) -> LitZone:
     return LitZone(np.ones(shape, bool), np.zeros(shape, bool), "whole frame")
 
 
+def _rim_width(shape: tuple[int, int]) -> int:
+    """Default width (px) of a lit zone's rim band: 1 % of the image's long side, at least
+    2 px."""
+    return max(2, round(0.01 * max(shape)))
+
+
 def _rim(mask: np.ndarray, rim_px: int) -> np.ndarray:
     """Pixels of `mask` within `rim_px` of an unlit pixel; the frame border is not a rim."""
     if mask.all() or rim_px < 1:
@@ -182,7 +188,7 @@ def find_lit_zone(
     mask = lit >= 0.5
     if not mask.any():
         return LitZone(mask, mask.copy(), "found", bright, black)
-    rim = _rim(mask, max(2, round(0.01 * max(h, w))) if rim_px is None else rim_px)
+    rim = _rim(mask, _rim_width((h, w)) if rim_px is None else rim_px)
     method = "whole frame" if mask.all() else "found"
     return LitZone(mask, rim, method, bright, black)
 
@@ -257,4 +263,4 @@ def lit_zone_from_file(path: str | Path, shape: tuple[int, int]) -> LitZone:
         raise ValueError(f"{path}: lit mask is {image.shape[1]} x {image.shape[0]} px, the "
                          f"footage {shape[1]} x {shape[0]} px")
     mask = image > 0
-    return LitZone(mask, _rim(mask, max(2, round(0.01 * max(shape)))), "file")
+    return LitZone(mask, _rim(mask, _rim_width(shape)), "file")

@@ -410,22 +410,24 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
     """Unlit pixels within ``model.rim_px`` of the contact `zone` (of the frame, or of
     ``frame[box]``) in the lit zone's rim band: where contact at the rim may go on unseen,
-    the half-light line being placed to within the band. Counted in the box grown by that
-    width (contact near the box's edge reaches past it)."""
-    rim, beyond, width = model.rim, model.beyond, model.rim_px
-    if box is not None:
-        h, w = rim.shape
-        (r0, r1), (c0, c1) = (box[0].indices(h)[:2], box[1].indices(w)[:2])
-        win = (slice(max(r0 - width, 0), min(r1 + width, h)),
-               slice(max(c0 - width, 0), min(c1 + width, w)))
-        grown = np.zeros((win[0].stop - win[0].start, win[1].stop - win[1].start), bool)
-        grown[r0 - win[0].start : r1 - win[0].start, c0 - win[1].start : c1 - win[1].start] = zone
-        zone, rim, beyond = grown, rim[win], beyond[win]
-    touch = zone & rim
+    the half-light line being placed to within the band. With a box, counted in the box
+    grown by that width (contact near the box's edge reaches past it)."""
+    width = model.rim_px
+    touch = zone & (model.rim if box is None else model.rim[box])
     if not touch.any():
         return 0
+    beyond = model.beyond
+    touch = touch.view(np.uint8)
+    if box is not None:  # the box grown by the width, the touching pixels placed in it
+        h, w = beyond.shape
+        (r0, r1), (c0, c1) = box[0].indices(h)[:2], box[1].indices(w)[:2]
+        top, left = min(width, r0), min(width, c0)
+        bottom, right = min(width, h - r1), min(width, w - c1)
+        touch = cv2.copyMakeBorder(touch, top, bottom, left, right, cv2.BORDER_CONSTANT,
+                                   value=0)
+        beyond = beyond[r0 - top : r1 + bottom, c0 - left : c1 + right]
     disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * width + 1,) * 2)
-    return int(np.count_nonzero(cv2.dilate(touch.view(np.uint8), disc).view(np.bool_) & beyond))
+    return int(np.count_nonzero(cv2.dilate(touch, disc).view(np.bool_) & beyond))
 
 
 @dataclass(frozen=True)
