@@ -37,6 +37,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from tir_contact._morphology import disc_dilate
+
 __all__ = ["LitZone", "find_lit_zone", "lit_zone_from_file", "shrink", "whole_frame"]
 
 #: Long side, px, of the shrunk image the zone is found on.
@@ -163,8 +165,7 @@ def find_lit_zone(
     # against the light nearby (a dilation over 15 % of the image), so that vignetting,
     # which dims a whole region slowly, is not taken for the rim, which dims it steeply
     r = max(1, round(0.15 * max(small.shape)))
-    nearby = cv2.dilate(small, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2),
-                        borderType=cv2.BORDER_REPLICATE)
+    nearby = disc_dilate(small, 2 * r + 1)
     lit = ((small - black > level_fraction * (nearby - black))
            & (small > black + floor_fraction * (bright - black))).astype(np.uint8)
     d = max(3, round(0.03 * max(small.shape)) | 1)

@@ -1,0 +1,107 @@
+"""Grey dilation, erosion and closing of float images by a wide disc, exact and fast.
+
+OpenCV's grey morphology with an elliptic kernel costs about the kernel's area per pixel:
+a 201 px disc on a 256 px image took 0.2-0.4 s, most of :func:`tir_contact.prepare_video`
+on a static scene. A disc is a stack of horizontal runs, one per kernel row, symmetric
+about the centre. The dilation is the maximum over the rows of the image's running
+maximum over that row's run, shifted by the row's offset. The running maxima of all
+widths come from one another by a growth step (``max`` of two neighbours), so the whole
+dilation costs about twice the disc's diameter passes of ``numpy.maximum`` over the
+image (padded above and below only), and gives the same values as OpenCV (only maxima
+and minima are taken: no rounding). Below :data:`ROWS_FROM_PX` OpenCV is faster and is used.
+
+The border is replicated, as ``cv2.BORDER_REPLICATE`` does.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+__all__ = ["ROWS_FROM_PX", "disc_close", "disc_dilate", "disc_erode", "disc_kernel"]
+
+#: Disc diameter (px) from which the run decomposition is used (measured on a 256 x 200
+#: float image, one core: equal time at about 25 px; 1.2x faster at 31 px, 4x at 101 px,
+#: 5x at 201 px).
+ROWS_FROM_PX = 25
+
+
+def disc_kernel(size_px: int) -> np.ndarray:
+    """OpenCV's elliptic structuring element of `size_px` (odd) x `size_px`."""
+    if size_px < 1 or size_px % 2 == 0:
+        raise ValueError(f"size_px must be odd and >= 1, got {size_px!r}")
+    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size_px, size_px))
+
+
+def _half_widths(kernel: np.ndarray) -> list[tuple[int, int]]:
+    """``(row offset, half width)`` of each row of a kernel made of centred runs, by
+    growing half width."""
+    k = np.asarray(kernel, bool)
+    c = k.shape[0] // 2
+    rows = []
+    for i, row in enumerate(k):
+        xs = np.flatnonzero(row)
+        if xs.size == 0:
+            continue
+        if xs[-1] - xs[0] + 1 != xs.size or xs[0] + xs[-1] != 2 * c:
+            raise ValueError("the kernel's rows must be runs centred on its middle column")
+        rows.append((i - c, c - int(xs[0])))
+    return sorted(rows, key=lambda r: r[1])
+
+
+def _extreme(image: np.ndarray, size_px: int, op: np.ufunc) -> np.ndarray:
+    """``op``-reduction (``np.maximum``: dilation, ``np.minimum``: erosion) over the disc."""
+    img = np.asarray(image, np.float32)
+    if img.ndim != 2:
+        raise ValueError(f"image must be 2-D, got shape {img.shape}")
+    kernel = disc_kernel(size_px)
+    if size_px < ROWS_FROM_PX:
+        fn = cv2.dilate if op is np.maximum else cv2.erode
+        return fn(img, kernel, borderType=cv2.BORDER_REPLICATE)
+    r = size_px // 2
+    h = img.shape[0]
+    # running extreme over [x - hw, x + hw] of the rows padded by the disc's radius; the
+    # columns need no pad: a window cut at the border holds the border pixel, which is
+    # all that a replicated border adds
+    run = np.pad(img, ((r, r), (0, 0)), mode="edge")
+    tmp = np.empty_like(run)
+    out: np.ndarray | None = None
+    hw = 0
+    for dy, want in _half_widths(kernel):
+        while hw < want:  # one step wider on both sides
+            op(run[:, :-1], run[:, 1:], out=tmp[:, :-1])
+            tmp[:, -1] = run[:, -1]
+            op(tmp[:, 1:], tmp[:, :-1], out=run[:, 1:])
+            run[:, 0] = tmp[:, 0]
+            hw += 1
+        rows = run[r + dy: r + dy + h]
+        if out is None:
+            out = rows.copy()
+        else:
+            op(out, rows, out=out)
+    assert out is not None  # a disc has a middle row
+    return out
+
+
+def disc_dilate(image: np.ndarray, size_px: int) -> np.ndarray:
+    """Grey dilation of a float image by the disc :func:`disc_kernel` of `size_px`.
+
+    Examples
+    --------
+    >>> img = np.random.default_rng(0).random((40, 50), dtype=np.float32)
+    >>> k = disc_kernel(45)
+    >>> ref = cv2.dilate(img, k, borderType=cv2.BORDER_REPLICATE)
+    >>> bool(np.array_equal(disc_dilate(img, 45), ref))
+    True
+    """
+    return _extreme(image, size_px, np.maximum)
+
+
+def disc_erode(image: np.ndarray, size_px: int) -> np.ndarray:
+    """Grey erosion of a float image by the disc :func:`disc_kernel` of `size_px`."""
+    return _extreme(image, size_px, np.minimum)
+
+
+def disc_close(image: np.ndarray, size_px: int) -> np.ndarray:
+    """Grey closing (dilation, then erosion) of a float image by a disc of `size_px`."""
+    return disc_erode(disc_dilate(image, size_px), size_px)
