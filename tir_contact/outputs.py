@@ -24,7 +24,6 @@ from tir_contact._outdir import replace_folder, staging_folder, temporary_name
 from tir_contact._readers import FootageError
 from tir_contact.features import ELEMENT_FIELDS, FRAME_KEYS, element_records
 from tir_contact.options import AnalysisOptions
-from tir_contact.overlay import draw_side_overlay, draw_tir_overlay
 from tir_contact.prepare import VideoSetup, footage_fingerprint
 
 __all__ = [
@@ -153,15 +152,16 @@ class Tables:
 
     def frames(self) -> pd.DataFrame:
         """``frames.csv``: one row per frame (:data:`FRAME_COLUMNS` first)."""
-        if self.setup.view_name == "tir" and self.rows:  # rows hold exactly FRAME_COLUMNS
+        if self.rows and self.rows[0].keys() == set(FRAME_COLUMNS):  # exactly those columns
             return pd.DataFrame({c: [r[c] for r in self.rows] for c in FRAME_COLUMNS})
         return _reorder(pd.DataFrame(self.rows), FRAME_COLUMNS)
 
     def elements(self) -> pd.DataFrame:
-        """``elements.csv``: one row per frame and element (:data:`ELEMENT_COLUMNS` first)."""
-        if self.setup.view_name == "tir":
-            return _records_table(self._el_rows, self._el_frames, self.setup.fps)
-        return _concat(self._el_tables, ELEMENT_COLUMNS)
+        """``elements.csv``: one row per frame and element (:data:`ELEMENT_COLUMNS` first),
+        from the element records (TIR) or the element tables (side view) of the frames."""
+        if self._el_tables:
+            return _concat(self._el_tables, ELEMENT_COLUMNS)
+        return _records_table(self._el_rows, self._el_frames, self.setup.fps)
 
     def regions(self) -> pd.DataFrame | None:
         """``regions.csv`` (:data:`REGION_COLUMNS`), None when regions are not wanted."""
@@ -276,15 +276,9 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
                    f"of {setup.max_dn:.0f}")
     in_view = frames["block_in_view"].astype(bool)
     if len(frames) and not in_view.any():
-        what = "contact" if setup.view_name == "tir" else "block"
-        out.append(f"no {what} found in any of the {len(frames)} frames analysed "
-                   f"(reference: {setup.reference_method})")
-    if setup.view_name == "tir" and len(frames):
-        at_rim = int((frames["contact_at_lit_rim"] == True).sum())  # noqa: E712 (NaN: no)
-        if at_rim:
-            out.append(f"contact touches the rim of the lit zone in {at_rim} of {len(frames)} "
-                       "frames: part of it may lie where too little light reaches to see it "
-                       "(lit_mask.png; --lit-mask to give the zone)")
+        out.append(f"no {setup.view.subject} found in any of the {len(frames)} frames "
+                   f"analysed (reference: {setup.reference_method})")
+    out += setup.view.warnings(frames)
     numbers = setup.numbers
     jumps = np.flatnonzero(np.diff(numbers) > 1)
     if len(jumps):
@@ -373,21 +367,11 @@ class _OverlayVideo:
 
 
 def _draw(setup: VideoSetup, frame: np.ndarray, result: Any) -> np.ndarray:
-    """The overlay image of a frame and its :class:`~tir_contact.frame.FrameResult`."""
+    """The overlay image of a frame and its :class:`~tir_contact.frame.FrameResult`, drawn
+    by the video's view."""
     k = result.row["frame"]
     label = f"frame {k}  t = {k / setup.fps * 1e3:.2f} ms"
-    el = result.element_table()
-    if setup.view_name == "tir":
-        top = setup.max_dn
-        lit = setup.view.tir.lit.mask  # dim footage is stretched to its lit level
-        bright = setup.view.tir.lit.bright_level
-        if math.isfinite(bright) and bright > 0:
-            top = min(top, 1.1 * bright)
-        return draw_tir_overlay(frame, result.detail.mask, el, result.row,
-                                mm_per_px=setup.mm_per_px, max_dn=top, label=label, lit=lit)
-    lines = getattr(result.detail, "lines", {}) or {}
-    return draw_side_overlay(frame, el, lines, ice_y_px=getattr(result.detail, "ice_y_px", None),
-                             max_dn=setup.max_dn, label=label)
+    return setup.view.overlay(setup, frame, result, label)
 
 
 def write_results(result: VideoAnalysis, final: Path, reader: Any, analyser: Any,
@@ -441,9 +425,8 @@ def write_results(result: VideoAnalysis, final: Path, reader: Any, analyser: Any
                             _draw(setup, frame, analyser(k, frame)))
         if video is not None and video.path.exists() and video.path.stat().st_size > 0:
             os.replace(video.path, stage / "overlay.avi")
-        if setup.view_name == "tir":  # the lit zone, white where TIR light reaches
-            cv2.imwrite(str(stage / "lit_mask.png"),
-                        setup.view.tir.lit.mask.astype(np.uint8) * 255)
+        for name, image in setup.view.images().items():  # the view's own (the lit zone)
+            cv2.imwrite(str(stage / name), image)
         write_json(stage / "summary.json", result.summary)
         return replace_folder(stage, final)
     except BaseException:

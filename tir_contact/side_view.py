@@ -21,6 +21,7 @@ import numpy as np
 from tir_contact._darkness import Normaliser
 from tir_contact.flatfield import Reference, reference_from_frames
 from tir_contact.options import AnalysisOptions
+from tir_contact.overlay import draw_side_overlay
 from tir_contact.side import (
     block_span_px,
     ice_line_tilt_deg,
@@ -56,6 +57,7 @@ class SideView:
     """
 
     name: ClassVar[str] = "side"
+    subject: ClassVar[str] = "block"
     reference_fit: ClassVar[None] = None  # no user reference is fitted in the side view
     reference: Reference | None
     method: str
@@ -101,6 +103,22 @@ class SideView:
     def summary(self) -> dict[str, Any]:
         """``summary.json``'s contrast and threshold (none: the side view has no threshold)."""
         return {"contrast": self.contrast, "threshold": None}
+
+    def overlay(self, setup: Any, frame: np.ndarray, result: FrameResult,
+                label: str) -> np.ndarray:
+        """The frame with the elements' chords, angles and the ice line drawn."""
+        lines = getattr(result.detail, "lines", {}) or {}
+        return draw_side_overlay(frame, result.element_table(), lines,
+                                 ice_y_px=getattr(result.detail, "ice_y_px", None),
+                                 max_dn=setup.max_dn, label=label)
+
+    def warnings(self, frames: Any) -> list[str]:
+        """None of the side view's own (its footage's are the common ones)."""
+        return []
+
+    def images(self) -> dict[str, np.ndarray]:
+        """None: the side view writes only the tables."""
+        return {}
 
 
 class SideFrames:

@@ -39,6 +39,7 @@ from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, lit_zone_from_file
 from tir_contact.measure import EDGE_PX, ZONE_PX, AreaModel, FrameArea, area_model, frame_area
 from tir_contact.options import AnalysisOptions
+from tir_contact.overlay import draw_tir_overlay
 from tir_contact.reference import TirReference, measurable, tir_reference
 from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
 from tir_contact.segment import (
@@ -74,6 +75,7 @@ class TirView:
     """
 
     name: ClassVar[str] = "tir"
+    subject: ClassVar[str] = "contact"
     tir: TirReference
     contrast: float | None
     threshold: float
@@ -126,6 +128,33 @@ class TirView:
     def analyser(self, setup: Any, options: AnalysisOptions) -> TirFrames:
         """The per-frame step of this video."""
         return TirFrames(self, setup, options)
+
+    def overlay(self, setup: Any, frame: np.ndarray, result: FrameResult,
+                label: str) -> np.ndarray:
+        """The frame with its contact, elements, area and lit zone drawn; dim footage is
+        stretched to its lit level."""
+        top = setup.max_dn
+        bright = self.tir.lit.bright_level
+        if math.isfinite(bright) and bright > 0:
+            top = min(top, 1.1 * bright)
+        return draw_tir_overlay(frame, result.detail.mask, result.element_table(),
+                                result.row, mm_per_px=setup.mm_per_px, max_dn=top,
+                                label=label, lit=self.tir.lit.mask)
+
+    def warnings(self, frames: Any) -> list[str]:
+        """Contact at the lit zone's rim, where part of it may not be seen."""
+        if not len(frames):
+            return []
+        at_rim = int((frames["contact_at_lit_rim"] == True).sum())  # noqa: E712 (NaN: no)
+        if not at_rim:
+            return []
+        return [f"contact touches the rim of the lit zone in {at_rim} of {len(frames)} "
+                "frames: part of it may lie where too little light reaches to see it "
+                "(lit_mask.png; --lit-mask to give the zone)"]
+
+    def images(self) -> dict[str, np.ndarray]:
+        """``lit_mask.png``: white where TIR light reaches."""
+        return {"lit_mask.png": self.tir.lit.mask.astype(np.uint8) * 255}
 
     def summary(self) -> dict[str, Any]:
         """Light, noise, contrast, threshold and populations (``summary.json``)."""

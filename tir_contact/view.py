@@ -5,7 +5,9 @@ A view is one object per video, made before the first frame by its ``prepare``
 from the sampled frames; :func:`tir_contact.prepare.prepare_video` keeps it in
 :attr:`tir_contact.prepare.VideoSetup.view`. Its :meth:`View.analyser` gives the per-frame
 step (``analyser(k, frame) -> FrameResult``), :meth:`View.summary` its part of
-``summary.json``; :class:`tir_contact.outputs.Tables` builds the tables from the results.
+``summary.json``, :meth:`View.overlay` a frame's overlay, :meth:`View.warnings` and
+:meth:`View.images` its own warnings and images; :class:`tir_contact.outputs.Tables`
+builds the tables from the results.
 """
 
 from __future__ import annotations
@@ -73,9 +75,12 @@ class View(Protocol):
     camera : {"fixed", "follows"}
     reference_fit : ReferenceFit or None
         A user's reference fitted to the footage (TIR with ``--reference``).
+    subject : str
+        What the view finds in a frame ("contact", "block"), for the user's messages.
     """
 
     name: str
+    subject: str
     reference_fit: Any
 
     @property
@@ -93,6 +98,19 @@ class View(Protocol):
 
     def summary(self) -> dict[str, Any]:
         """The view's part of ``summary.json`` (after ``camera``, before ``meta``)."""
+        ...
+
+    def overlay(self, setup: Any, frame: np.ndarray, result: FrameResult,
+                label: str) -> np.ndarray:
+        """The overlay image (BGR uint8) of a frame and its result."""
+        ...
+
+    def warnings(self, frames: pd.DataFrame) -> list[str]:
+        """What the video's ``frames.csv`` calls to the user's attention, for this view."""
+        ...
+
+    def images(self) -> dict[str, np.ndarray]:
+        """Images written into the result folder beside the tables, by file name."""
         ...
 
 
