@@ -283,7 +283,7 @@ def _disc_with_stripe(h: int, w: int, radius: int, stripe_end: int, rim_px: int)
     d = rng.normal(0.0, 0.02, found.shape).astype(np.float32)
     d[stripe] += 0.9
     d[~found] = np.nan
-    lit = LitZone(found, _rim(found, rim_px), "found")
+    lit = LitZone(found, _rim(found, rim_px), "found", rim_px=rim_px)
     m = area_model([d], np.full(d.shape, 0.02, np.float32), rim=_rim_band(lit))
     return d, m, r2, stripe
 
@@ -311,3 +311,21 @@ def test_rim_term_is_the_same_in_the_contact_box():
     boxed = frame_area(d, m, box)
     assert boxed.area_px == pytest.approx(whole.area_px, rel=1e-9)
     assert boxed.high_px == pytest.approx(whole.high_px, rel=1e-9)
+
+
+def test_rim_band_is_as_wide_as_the_zones_rim():
+    # the band a found zone was made with is its width; a zone built without it reads the
+    # width from the rim's depth, up to a pixel over (the distance transform's rounding)
+    from tir_contact.illumination import LitZone, find_lit_zone
+    from tir_contact.tir_view import _rim_band
+
+    yy, xx = np.mgrid[:400, :640]
+    disc = np.where((xx - 320) ** 2 + (yy - 200) ** 2 < 150 ** 2, 100.0, 5.0)
+    zone = find_lit_zone(disc.astype(np.float32))
+    assert zone.rim_px == 6  # 1 % of the long side
+    rim, beyond, width = _rim_band(zone)
+    assert width == 6
+    assert np.array_equal(rim, zone.rim)
+    out = cv2.distanceTransform((~zone.mask).view(np.uint8), cv2.DIST_L2, 5)
+    assert beyond.any() and out[beyond].max() <= 6.5  # the unlit pixels within the width
+    assert _rim_band(LitZone(zone.mask, zone.rim, "found"))[2] in (6, 7)

@@ -217,6 +217,70 @@ def test_lit_zone_fraction(shape, fraction):
         assert not zone.mask[span < 0.1 * span.max()].any()  # the dark outside is never lit
 
 
+@pytest.mark.parametrize("edge", ["straight", "wavy"])
+@pytest.mark.parametrize("shape", ["disc", "ellipse"])
+def test_lit_zone_continues_a_rim_that_a_held_contact_hides(shape, edge):
+    """A contact held over a lit disc's (ellipse's) side hides a sixth of its rim (a camera
+    that follows the block, or a static test); the lit part ends along the contact's edge,
+    straight (with the block's elements beside it, 14 px apart) or wavy (6 px). The zone is
+    the drawn one to 2.5 % of its area: with no contact at all the found zone differs from
+    the drawn one by 0.7 % (the 12 px soft rim on the shrunk working image), and the
+    ellipse through the rim that is seen continues it, the hull's long sides (the chord
+    along the contact) and the points off the first fit (a wavy chord's short sides) left
+    out. The hull alone cuts the zone at the chord: 9 % of it; keeping the wavy chord's
+    points in the fit, 4-8 %."""
+    free, inside = lit_field(256, 320, shape=shape, fraction=0.3, rim_px=12.0,
+                             vignetting=0.1, zone=True)
+    cols = np.flatnonzero(inside.any(axis=0))
+    chord = cols[0] + (cols[-1] - cols[0]) // 7  # the contact from the zone's side to here
+    yy, xx = np.mgrid[:256, :320]
+    if edge == "straight":
+        held = xx < chord
+        held |= (xx < cols[-1] - 20) & ((xx // 14) % 2 == 0)
+    else:
+        held = xx < chord + 6 * np.sin(yy / 9.0)
+    image = np.where(held, 0.15 * free, free).astype(np.float32)
+    zone = find_lit_zone(image)
+    assert np.count_nonzero(zone.mask ^ inside) <= 0.025 * inside.sum()
+
+
+def _working_lit(name: str) -> tuple[np.ndarray, np.ndarray]:
+    """A lit zone from ``tests/data`` as ``find_lit_zone`` sees it before the hull (uint8
+    0/1), and its hull."""
+    lit = (cv2.imread(str(Path(__file__).parent / "data" / name), cv2.IMREAD_GRAYSCALE)
+           > 0).astype(np.uint8)
+    hull = np.zeros_like(lit)
+    cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
+    return lit, hull
+
+
+def test_no_ellipse_along_a_band_whose_ends_vignetting_dims():
+    """The lit band of physical draw 1 (seed 0: a rough pad, a band with an 85 px soft rim
+    and vignetting 0.41 that dims its ends inside the frame), on the working image before
+    the hull (``tests/data/lit_band_dim_ends.png``). Its rim fits an ellipse of axes
+    65 x 463 px that holds the zone but runs up to 3 px past the band's straight rims:
+    flatter than any lit ellipse a prism makes (:data:`MAX_AXIS_RATIO`), so there is none.
+    """
+    from tir_contact.illumination import _ellipse_through_rim
+
+    lit, hull = _working_lit("lit_band_dim_ends.png")
+    assert not _ellipse_through_rim(lit, hull).any()
+
+
+def test_no_ellipse_through_the_few_rim_points_a_band_leaves():
+    """The lit band of domain draw 1 (seed 0: a static pad, the band across the frame,
+    contact at its rims and over a corner), as ``find_lit_zone`` sees it on its working
+    image before the hull (``tests/data/lit_band_corner_cut.png``). The band's straight
+    rims are the hull's long sides; the 52 rim points left (its ends and the cut corner)
+    fit an ellipse within the fit's tolerance that leaves the band's ends out and adds
+    three times the band's area of dark outside. The continuation must contain the lit
+    zone, so there is none: the hull stays."""
+    from tir_contact.illumination import _ellipse_through_rim
+
+    lit, hull = _working_lit("lit_band_corner_cut.png")
+    assert not _ellipse_through_rim(lit, hull).any()
+
+
 def test_whole_lit_frame_has_no_rim():
     zone = find_lit_zone(lit_field(128, 160, shape="band", fraction=2.0, vignetting=0.2))
     assert zone.fraction == 1.0 and not zone.rim.any()

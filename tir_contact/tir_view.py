@@ -370,14 +370,17 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
 
 def _rim_band(lit: LitZone) -> tuple[np.ndarray, np.ndarray, int] | None:
     """The lit zone's rim band, the unlit pixels within its width outside the zone (not
-    the frame border), and the width (the rim pixels' largest depth from the edge, px);
-    None without a rim."""
+    the frame border), and the width (the zone's ``rim_px``; for a zone built without it,
+    the rim pixels' largest depth from the edge, which reads up to 1 px over); None
+    without a rim."""
     rim = lit.rim
     if rim is None or not rim.any():
         return None
-    depth = cv2.distanceTransform(np.pad(lit.mask, 1, mode="edge").view(np.uint8),
-                                  cv2.DIST_L2, 3)[1:-1, 1:-1]
-    width = max(1, round(float(depth[rim].max())))
+    width = lit.rim_px
+    if not width:
+        depth = cv2.distanceTransform(np.pad(lit.mask, 1, mode="edge").view(np.uint8),
+                                      cv2.DIST_L2, 3)[1:-1, 1:-1]
+        width = max(1, round(float(depth[rim].max())))
     disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * width + 1,) * 2)
     beyond = cv2.dilate(lit.mask.view(np.uint8), disc).view(np.bool_) & ~lit.mask
     return rim, beyond, width
