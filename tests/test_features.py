@@ -173,6 +173,47 @@ def test_valid_mask_reduces_the_nominal_area():
     assert f.frame["contact_ratio"] == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("direction", ["left", "right"])
+def test_a_run_cut_where_the_lit_zone_ends_is_clipped(direction):
+    # Two 1 mm elements whose contact reaches past the lit zone on the leading side (the
+    # first 3 px of element 0's 10 px unlit, as at a lit disc's rim under a following
+    # camera): the element's front is the lit zone's end, not an edge, and its lift-off
+    # (which needs the whole element) unknown, as at the image border; element 1 keeps
+    # both. Truth: the analytic strips.
+    d = strips(60, [(10, 20), (25, 35)], rows=12)
+    valid = np.ones(d.shape, bool)
+    if direction == "left":
+        valid[:, :13] = False
+    else:  # mirrored: the leading side is the right
+        d, valid = d[:, ::-1].copy(), valid.copy()
+        valid[:, 47:] = False
+    d[~valid] = np.nan
+    layout = BlockLayout(PX, direction, element_lengths_mm=(1.0, 1.0), sipe_width_mm=0.5)
+    el = features(d, layout, valid=valid).elements.set_index("element")
+    assert math.isnan(el.loc[0, "front_edge_x_mm"]) and math.isnan(el.loc[0, "liftoff_mm"])
+    assert el.loc[0, "contact_length_mm"] == pytest.approx(0.7, abs=1e-6)  # the lit part
+    assert el.loc[1, "liftoff_mm"] == pytest.approx(0.0, abs=1e-6)
+    front = 2.5 if direction == "left" else 3.5
+    assert el.loc[1, "front_edge_x_mm"] == pytest.approx(front, abs=1e-6)
+
+
+def test_an_element_reaching_past_the_lit_zone_has_no_liftoff():
+    # Element 0's template (columns 10-20, fitted from both elements) starts 2 px before
+    # the lit zone's end at column 12; its contact (patchy: columns 14-20) does not reach
+    # that end, so its front edge stands, but whether it lifts off cannot be seen.
+    d = strips(60, [(14, 20), (25, 35)], rows=12)
+    valid = np.ones(d.shape, bool)
+    valid[:, :12] = False
+    d[~valid] = np.nan
+    layout = BlockLayout(PX, "left", element_lengths_mm=(1.0, 1.0), sipe_width_mm=0.5)
+    el = features(d, layout, valid=valid).elements.set_index("element")
+    assert el.loc[0, "front_edge_x_mm"] == pytest.approx(1.4, abs=1e-6)
+    assert math.isnan(el.loc[0, "liftoff_mm"])
+    assert el.loc[1, "liftoff_mm"] == pytest.approx(0.0, abs=1e-6)
+    whole = features(d, layout).elements.set_index("element")  # no view given: the image
+    assert whole.loc[0, "liftoff_mm"] == pytest.approx(0.4, abs=1e-6)
+
+
 def test_without_geometry_the_contact_is_one_strip():
     yy, xx = np.mgrid[0:40, 0:60]
     d = np.where((xx - 30) ** 2 + (yy - 20) ** 2 <= 100, 0.8, 0.0).astype(np.float32)

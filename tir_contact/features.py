@@ -36,10 +36,13 @@ towards smaller x (the leading side is on the left); positions are mirrored back
 3. *Edges and length*: the front and back edges of a run are where ``p`` crosses half of the
    run's median darkness, interpolated linearly between pixel centres (for a step edge the
    error is below 0.1 px; a binary mask edge would be off by up to 0.5 px). A clipped edge is
-   the image border. ``contact_length_mm`` is the summed length of the element's runs inside
-   the image, as in the ground truth; ``front_edge_x_mm`` is the leading edge of the first run
-   (NaN when clipped). For full-height strips this is the row mean of the line-wise contact
-   length, with sub-pixel edges.
+   the view's border: the image's, or with ``valid`` the first or last column whose valid
+   pixels in the contact's rows could hold a run (half the most contact pixels of a
+   column: where the lit zone ends or narrows past that). ``contact_length_mm`` is
+   the summed length of the element's runs inside the view (the image: as in the ground
+   truth); ``front_edge_x_mm`` is the leading edge of the first run (NaN when clipped).
+   For full-height strips this is the row mean of the line-wise contact length, with
+   sub-pixel edges.
 4. *Front-edge pressure peak*: the maximum of ``p`` over the first ``peak_window_mm`` (at most
    half) of the element's contact, refined by the parabola through the maximum column and its
    neighbours. The *plateau* is the median of ``p`` behind that window (without the back edge
@@ -48,7 +51,8 @@ towards smaller x (the leading side is on the left); positions are mirrored back
    (linear interpolation; NaN unless the contrast is positive). NaN when the element's front
    is clipped or the contact is shorter than 4 px.
 5. *Lift-off*: ``liftoff_mm = max(0, l_i - contact_length_mm)``: 0 in full contact, the lifted
-   length otherwise. NaN when the element's template or run reaches beyond the image.
+   length otherwise. NaN when the element's template or run reaches beyond the view (the
+   image, or the lit zone's ends as in step 3).
 6. *Deflection* (needs ``velocity_mps``, ``center_time_s``, the frame time and the geometry):
    the carrier (undeformed block) moves as the renderer's convention says, the block centre
    passing the image centre at ``center_time_s``; the undeformed front of element ``i`` in
@@ -614,8 +618,8 @@ class _Run:
     area_px: int  # contact pixels of its runs
     c0: int  # first run's first column
     c1: int  # first run's last column (inclusive)
-    front_clipped: bool  # the first run starts at the image border
-    back_clipped: bool  # its last run ends at the image border
+    front_clipped: bool  # the first run starts at the view's border (image or lit zone)
+    back_clipped: bool  # its last run ends at the view's border
 
 
 def _assign(
@@ -697,31 +701,43 @@ class ValidCounts:
     consecutive frames mostly share the rows of their contact.
     """
 
-    __slots__ = ("key", "value")
+    __slots__ = ("columns", "key", "value")
 
     def __init__(self) -> None:
         self.key: tuple | None = None
         self.value: list[int] = []
+        self.columns: np.ndarray = np.zeros(0, np.int32)
 
 
 def _valid_cumsum(valid: np.ndarray, r0: int, r1: int, flip: bool,
-                  cache: ValidCounts | None = None) -> list[int]:
-    """Cumulative valid pixels per column within rows r0..r1-1 (mirrored when `flip`).
+                  cache: ValidCounts | None = None) -> tuple[list[int], np.ndarray]:
+    """Cumulative valid pixels per column within rows r0..r1-1 (mirrored when `flip`), and
+    the valid pixels of each column there.
 
     With `cache` (one per video and mask), the last result is reused for the same rows.
     """
     key = (valid.shape, r0, r1, flip)
     if cache is not None and cache.key == key:
-        return cache.value
+        return cache.value, cache.columns
     v8 = valid[r0:r1]
     v8 = v8.view(np.uint8) if v8.dtype == np.bool_ else (v8 != 0).view(np.uint8)
     if not v8.flags.c_contiguous:
         v8 = np.ascontiguousarray(v8)
     vc = cv2.reduce(v8, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
-    out = np.concatenate([[0], np.cumsum(vc[::-1] if flip else vc)]).tolist()
+    vc = vc[::-1] if flip else vc
+    out = np.concatenate([[0], np.cumsum(vc)]).tolist()
     if cache is not None:
-        cache.key, cache.value = key, out
-    return out
+        cache.key, cache.value, cache.columns = key, out, vc
+    return out, vc
+
+
+def _view_ends(columns: np.ndarray, counts: np.ndarray) -> tuple[int, int] | None:
+    """The first and last column (mirrored frame) whose valid pixels in the contact's rows
+    could hold a run: at least half of the most contact pixels a column holds (a run's own
+    rule, :func:`_half_runs`); where the lit zone narrows past them, a run ends because
+    the view ends. None when no column can."""
+    seen = np.flatnonzero(columns >= (int(counts.max()) + 1) // 2)
+    return (int(seen[0]), int(seen[-1])) if seen.size else None
 
 
 # -- the frame --------------------------------------------------------------------------------
@@ -879,12 +895,16 @@ def _element_runs(
     areas: list[int],
     p: list[float],
     n_cols: int,
+    ends: tuple[int, int] | None = None,
 ) -> dict[int, _Run]:
     """Step 3: each element's front edge, summed length, area and first run (px).
 
     A further run of the same element adds its length and area; the front and peak stay
-    the first run's.
+    the first run's. A run is clipped where it reaches the view's first or last column
+    (`ends`, mirrored frame: the lit zone's ends along the contact's rows; the image's by
+    default).
     """
+    first, last = (0, n_cols - 1) if ends is None else ends
     per: dict[int, _Run] = {}
     for piece, area in zip(pieces, areas, strict=True):
         c0, c1 = piece.c0, piece.c1
@@ -894,11 +914,11 @@ def _element_runs(
         e = per.get(piece.element)
         if e is None:
             per[piece.element] = _Run(x_f, x_b - x_f, area, c0, c1,
-                                      c0 == 0 and not piece.split_front, c1 == n_cols - 1)
+                                      c0 <= first and not piece.split_front, c1 >= last)
         else:
             e.length_px += x_b - x_f
             e.area_px += area
-            e.back_clipped = c1 == n_cols - 1
+            e.back_clipped = c1 >= last
     return per
 
 
@@ -910,8 +930,12 @@ def _element_rows(
     p: list[float],
     n_cols: int,
     peak_window_mm: float,
+    ends: tuple[int, int] | None = None,
 ) -> list[ElementRow]:
-    """Steps 4 to 6 of the module notes: peak, lift-off and deflection of each element."""
+    """Steps 4 to 6 of the module notes: peak, lift-off and deflection of each element
+    (lift-off only for an element whose template lies within the view's `ends`, mirrored
+    frame; the image by default)."""
+    first, last = (0, n_cols - 1) if ends is None else ends
     px = layout.mm_per_px
     flip = layout.sliding_direction == "right"
     s = -1.0 if flip else 1.0
@@ -925,7 +949,7 @@ def _element_rows(
         run = per[i]
         x_f, clip_f, clip_b = run.front_px, run.front_clipped, run.back_clipped
         t = x0 + fronts_l[i]
-        inside = t >= 0.0 and t + lengths_l[i] <= n_cols
+        inside = t >= first and t + lengths_l[i] <= last + 1
         length_mm = run.length_px * px
         if clip_f:
             front_mm = pk_mm = width_mm = contrast = _NAN
@@ -961,7 +985,8 @@ def _contact_ratio(
     r0, r1 = span[:2]
     fronts_l, lengths_l, _ = layout._template_lists
     if valid is not None:
-        vcum = _valid_cumsum(valid, r0, r1, layout.sliding_direction == "right", valid_counts)
+        vcum = _valid_cumsum(valid, r0, r1, layout.sliding_direction == "right",
+                             valid_counts)[0]
         rows_px = 0.0
     else:
         vcum = None
@@ -1034,8 +1059,12 @@ def frame_rows(
     total = sum(areas)  # the pieces' areas partition the columns
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
-    per = _element_runs(pieces, areas, p, n_cols)
-    rows = _element_rows(per, x0, x_und, layout, p, n_cols, peak_window_mm)
+    # the view's ends along the contact's rows: where the lit zone ends, a run is cut as at
+    # the image border
+    ends = (None if valid is None else
+            _view_ends(_valid_cumsum(valid, span[0], span[1], flip, valid_counts)[1], counts))
+    per = _element_runs(pieces, areas, p, n_cols, ends)
+    rows = _element_rows(per, x0, x_und, layout, p, n_cols, peak_window_mm, ends)
     frame["contact_ratio"] = _contact_ratio(total, x0, layout, span, n_cols, valid, valid_counts)
     _block_values(frame, rows)
     return frame, rows
