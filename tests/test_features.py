@@ -214,6 +214,28 @@ def test_an_element_reaching_past_the_lit_zone_has_no_liftoff():
     assert whole.loc[0, "liftoff_mm"] == pytest.approx(0.4, abs=1e-6)
 
 
+def test_elements_beyond_the_lit_zone_are_numbered_as_beyond_the_image():
+    # Three 1 mm elements behind 0.5 mm sipes; the leading one lies wholly where the lit
+    # zone has not begun (columns 0-12 unlit). Truth: the same frame cut at column 13,
+    # where the image border hides it: the two seen elements are 1 and 2, in full contact.
+    d = strips(60, [(0, 10), (15, 25), (30, 40)], rows=12)
+    valid = np.ones(d.shape, bool)
+    valid[:, :13] = False
+    lit = np.where(valid, d, np.nan).astype(np.float32)
+    layout = BlockLayout(PX, "left", element_lengths_mm=(1.0,) * 3, sipe_width_mm=0.5)
+    el = features(lit, layout, valid=valid).elements
+    cut = features(d[:, 13:].copy(), layout).elements
+    assert el["element"].tolist() == cut["element"].tolist() == [1, 2]
+    np.testing.assert_allclose(el["liftoff_mm"], 0.0, atol=1e-6)
+    # without geometry: a strip that starts at the lit zone's end has no front there
+    cut_strip = np.where(valid, strips(60, [(10, 20), (25, 35)], rows=12), np.nan)
+    free = features(cut_strip.astype(np.float32), BlockLayout(PX, "left"), valid=valid)
+    assert math.isnan(free.frame["block_front_x_mm"])
+    assert math.isnan(free.frame["front_peak_x_mm"])
+    seen = features(lit, BlockLayout(PX, "left"), valid=valid)  # starts 2 px inside it
+    assert seen.frame["block_front_x_mm"] == pytest.approx(1.5)
+
+
 def test_without_geometry_the_contact_is_one_strip():
     yy, xx = np.mgrid[0:40, 0:60]
     d = np.where((xx - 30) ** 2 + (yy - 20) ** 2 <= 100, 0.8, 0.0).astype(np.float32)

@@ -186,14 +186,15 @@ def test_a_passing_contact_is_a_fixed_camera(tmp_path):
     assert err.abs().median() <= 0.05
 
 
-def _faint_block_frames(moving: str, n: int = 24) -> list[np.ndarray]:
-    """Frames of a 640 x 256 lit band with faint patchy contact (a third of a 90 x 120 px
-    block's face at darkness 0.12, under the 0.25 a block-sized region needs), grey noise
-    1.5 % and an ice texture (3 %): the block passes (``moving="block"``, 30 px a frame),
-    is held while the ice's texture moves under it (``"ice"``: a camera that follows the
-    block) or is held still (``"none"``)."""
+def _faint_block_frames(moving: str, n: int = 24, shape: str = "band",
+                        fraction: float = 0.8) -> list[np.ndarray]:
+    """Frames of a 640 x 256 lit band (or `shape`) with faint patchy contact (a third of a
+    90 x 120 px block's face at darkness 0.12, under the 0.25 a block-sized region needs),
+    grey noise 1.5 % and an ice texture (3 %): the block passes (``moving="block"``, 24 px
+    a frame), is held while the ice's texture moves under it (``"ice"``: a camera that
+    follows the block) or is held still (``"none"``)."""
     rng = np.random.default_rng(4)
-    free = lit_field(256, 640, shape="band", fraction=0.8, peak=150.0, vignetting=0.2)
+    free = lit_field(256, 640, shape=shape, fraction=fraction, peak=150.0, vignetting=0.2)
     tex = cv2.GaussianBlur(rng.standard_normal((256, 1400)).astype(np.float32), (0, 0), 3.0)
     tex *= 0.03 / tex.std()
     field = cv2.GaussianBlur(rng.standard_normal((120, 90)), (0, 0), 2.0)
@@ -210,16 +211,19 @@ def _faint_block_frames(moving: str, n: int = 24) -> list[np.ndarray]:
     return frames
 
 
+@pytest.mark.parametrize("shape, fraction", [("band", 0.8), ("disc", 0.3)])
 @pytest.mark.parametrize("moving, camera", [("block", "fixed"), ("ice", "follows"),
                                             ("none", "follows")])
-def test_faint_contact_that_crosses_the_view_is_a_fixed_camera(moving, camera):
+def test_faint_contact_that_crosses_the_view_is_a_fixed_camera(moving, camera, shape,
+                                                               fraction):
     """A block whose contact is faint and patchy (rough real contact) passes a fixed
     camera: no sample differs from the others by a block-sized region 0.25 darker, but the
-    contact's place along the rows travels across the view; held contact does not, whether
-    the ice moves under it (a camera that follows the block) or nothing moves."""
+    contact's place along the rows travels across the view (the lit zone's extent: a disc
+    of 30 % of the frame spans 40 % of its width); held contact does not, whether the ice
+    moves under it (a camera that follows the block) or nothing moves."""
     from tir_contact.reference import _moving, _translates, tir_reference
 
-    frames = _faint_block_frames(moving)
+    frames = _faint_block_frames(moving, shape=shape, fraction=fraction)
     tref = tir_reference(frames)
     assert tref.camera == camera
     if moving == "block":  # the block-sized-region test alone misses it

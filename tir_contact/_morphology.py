@@ -10,7 +10,9 @@ dilation costs about twice the disc's diameter passes of ``numpy.maximum`` over 
 image (padded above and below only), and gives the same values as OpenCV (only maxima
 and minima are taken: no rounding). Below :data:`ROWS_FROM_PX` OpenCV is faster and is used.
 
-The border is replicated, as ``cv2.BORDER_REPLICATE`` does.
+The border is replicated, as ``cv2.BORDER_REPLICATE`` does. Images are taken as float32
+and must be finite (a NaN spreads through ``numpy.maximum`` where OpenCV skips it); both
+callers pass finite float32 images.
 """
 
 from __future__ import annotations

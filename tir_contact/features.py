@@ -17,28 +17,28 @@ The sliding direction is handled by mirroring both profiles so that the block al
 towards smaller x (the leading side is on the left); positions are mirrored back at the end.
 
 1. *Runs*: columns with ``n(c) >= n_max / 2`` (more than half the contact rows) form contact
-   runs. A run whose first (last) column is the first (last) image column is *clipped*: its
-   edge lies at or beyond the image border.
+   runs. A run whose first (last) column is the view's first (last) column is *clipped*:
+   its edge lies at or beyond the view's end. The view is the image or, with ``valid``,
+   the columns whose valid pixels in the contact's rows could hold a run (at least
+   ``n_max / 2``): where the lit zone ends or narrows past that, the view ends.
 2. *Element numbering* (needs the geometry, :class:`BlockLayout`): the element footprint
    template (element ``i`` covers ``[x0 + P_i, x0 + P_i + l_i]``, ``P_i`` the undeformed front
    of element ``i`` behind the block front, ``l_i`` its length) is matched to the runs. The
    candidate offsets ``x0`` put any element's front on the front of the first run with an
    unclipped front edge, or any element's back on the back of the first run (and the
    carrier position when the trajectory is known). Each candidate is scored by its
-   mismatch with the template *clipped to the image*: a contact column outside every element
+   mismatch with the template *clipped to the view*: a contact column outside every element
    face costs 1, a face column without contact 1/4 (a face may lose more than half its
    contact to lift-off and must still beat no face at all); the lowest score wins. Because
-   the template is clipped to the image, a shift by one element leaves either an empty
+   the template is clipped to the view, a shift by one element leaves either an empty
    element face inside the view or contact outside the faces, so entering and leaving blocks
-   (leading or trailing elements outside the image) are numbered correctly. Each run goes to
+   (leading or trailing elements outside the view) are numbered correctly. Each run goes to
    the element it overlaps most; a run spanning a closed sipe (overlapping two element
    templates by more than a quarter of their length each) is split at the sipe's centre.
 3. *Edges and length*: the front and back edges of a run are where ``p`` crosses half of the
    run's median darkness, interpolated linearly between pixel centres (for a step edge the
    error is below 0.1 px; a binary mask edge would be off by up to 0.5 px). A clipped edge is
-   the view's border: the image's, or with ``valid`` the first or last column whose valid
-   pixels in the contact's rows could hold a run (half the most contact pixels of a
-   column: where the lit zone ends or narrows past that). ``contact_length_mm`` is
+   the view's end (step 1). ``contact_length_mm`` is
    the summed length of the element's runs inside the view (the image: as in the ground
    truth); ``front_edge_x_mm`` is the leading edge of the first run (NaN when clipped).
    For full-height strips this is the row mean of the line-wise contact length, with
@@ -551,6 +551,7 @@ def _fit_offset(
     x0_carrier: float,
     fronts_l: list[float] | None = None,
     lengths_l: list[float] | None = None,
+    view: tuple[int, int] | None = None,
 ) -> float:
     """Block-front offset (px, mirrored frame) that best matches the runs to the template.
 
@@ -560,12 +561,13 @@ def _fit_offset(
     """
     if fronts_l is None or lengths_l is None:
         fronts_l, lengths_l = fronts.tolist(), lengths.tolist()
+    first, last = (0, n_cols - 1) if view is None else view
     x0_list: list[float] = []
     for c in starts:
-        if c > 0:
+        if c > first:
             x0_list += [c - f for f in fronts_l]
             break
-    if ends[0] < n_cols - 1:
+    if ends[0] < last:
         e0 = ends[0] + 1.0
         x0_list += [e0 - f - n for f, n in zip(fronts_l, lengths_l, strict=True)]
     carrier = math.isfinite(x0_carrier)
@@ -580,8 +582,8 @@ def _fit_offset(
     lohi = np.empty((2, x0.size, len(fronts_l)))
     np.add(x0[:, None], fronts, out=lohi[0])
     np.add(lohi[0], lengths, out=lohi[1])
-    np.maximum(lohi, 0.0, out=lohi)
-    np.minimum(lohi, n_cols, out=lohi)
+    np.maximum(lohi, float(first), out=lohi)
+    np.minimum(lohi, last + 1.0, out=lohi)
     lo, hi = lohi
     ov = np.minimum(hi[:, :, None], np.array([c + 1.0 for c in ends]))  # (K, N, J)
     np.subtract(ov, np.maximum(lo[:, :, None], np.array(starts, float)), out=ov)
@@ -840,12 +842,19 @@ def _frame_without_geometry(
     counts: np.ndarray,
     span: tuple[int, int, int, int],
     peak_window_mm: float,
+    valid: np.ndarray | None = None,
+    valid_counts: ValidCounts | None = None,
 ) -> dict[str, float | int | bool]:
-    """The whole contact as one strip: area, block front and front peak (module notes)."""
+    """The whole contact as one strip: area, block front and front peak (module notes);
+    no front where the strip starts at the view's end (the image's, or the lit zone's with
+    `valid`)."""
     px = layout.mm_per_px
     n_cols = d.shape[1]
     flip = layout.sliding_direction == "right"
-    _, _, c_lo, c_hi = span
+    r0, r1, c_lo, c_hi = span
+    view = (None if valid is None else
+            _view_ends(_valid_cumsum(valid, r0, r1, flip, valid_counts)[1], counts))
+    first = 0 if view is None else view[0]
     total = int(counts[c_lo:c_hi].sum())
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
@@ -854,7 +863,7 @@ def _frame_without_geometry(
         prof = prof[::-1]
         c_lo, c_hi = n_cols - c_hi, n_cols - c_lo
     p = [0.0] * c_lo + prof.tolist() + [0.0] * (n_cols - c_hi)
-    if c_lo > 0:
+    if c_lo > first:
         frame["block_front_x_mm"] = _image_mm(float(c_lo), n_cols, px, flip)
         pos, _, contrast = _front_peak(p, c_lo, c_hi - 1, peak_window_mm / px)
         frame["front_peak_x_mm"] = _image_mm(pos, n_cols, px, flip)
@@ -1038,7 +1047,8 @@ def frame_rows(
     if span is None:
         return _empty_frame(contact.n_regions), []
     if layout.element_lengths_mm is None:
-        return _frame_without_geometry(d, contact, layout, counts, span, peak_window_mm), []
+        return _frame_without_geometry(d, contact, layout, counts, span, peak_window_mm,
+                                       valid, valid_counts), []
     flip = layout.sliding_direction == "right"
     p, counts, starts, ends = _mirrored_profiles(d, counts, span, flip, sums)
     # Step 2: the template's offset and the element of each run.
@@ -1048,7 +1058,10 @@ def frame_rows(
     x0_carrier = _NAN
     if math.isfinite(x_und):
         x0_carrier = n_cols - x_und / px if flip else x_und / px
-    x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier, fronts_l, lengths_l)
+    view = (None if valid is None else
+            _view_ends(_valid_cumsum(valid, span[0], span[1], flip, valid_counts)[1], counts))
+    x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier, fronts_l, lengths_l,
+                     view)
     pieces = _assign(starts, ends, x0, fronts_l, lengths_l, quarters_l,
                      layout.sipe_width_mm / px)
     # Columns between runs (below half coverage) count for the area of the nearer run.
@@ -1061,10 +1074,8 @@ def frame_rows(
     frame["block_in_view"] = True
     # the view's ends along the contact's rows: where the lit zone ends, a run is cut as at
     # the image border
-    ends = (None if valid is None else
-            _view_ends(_valid_cumsum(valid, span[0], span[1], flip, valid_counts)[1], counts))
-    per = _element_runs(pieces, areas, p, n_cols, ends)
-    rows = _element_rows(per, x0, x_und, layout, p, n_cols, peak_window_mm, ends)
+    per = _element_runs(pieces, areas, p, n_cols, view)
+    rows = _element_rows(per, x0, x_und, layout, p, n_cols, peak_window_mm, view)
     frame["contact_ratio"] = _contact_ratio(total, x0, layout, span, n_cols, valid, valid_counts)
     _block_values(frame, rows)
     return frame, rows
@@ -1091,7 +1102,8 @@ def tir_frame_features(
         Scale, sliding direction and (optionally) block geometry and carrier trajectory.
     valid : (M, N) ndarray of bool, optional
         Usable pixels (:attr:`tir_contact.flatfield.Reference.valid`); only they count for
-        the nominal area of ``contact_ratio``.
+        the nominal area of ``contact_ratio``, and where they end along the contact's rows
+        the view ends (module notes, step 1).
     time_s : float, optional
         Time of the frame (middle of the exposure), s; with the layout's trajectory it gives
         the deflection.

@@ -212,8 +212,11 @@ def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray) -> np.ndarray:
 
     A contact that reaches the rim hides the rim behind it, and the hull cuts across the
     contact along a chord. The rim's points that are seen (on both the zone's edge and the
-    hull's, away from the image border) are fitted with an ellipse; where they lie on it
-    (a lit disc or ellipse), the ellipse continues the rim under the contact. A band's
+    hull's, away from the image border and off the hull's long sides, :func:`_chords`) are
+    fitted with an ellipse, and fitted again without the points off it (up to
+    :data:`TRIM_ROUNDS` times, while half of them stay); where they lie on it (a lit disc or
+    ellipse), the ellipse continues the rim under the contact, if it holds the zone
+    (:data:`LIT_OUTSIDE_ELLIPSE`) and is no flatter than :data:`MAX_AXIS_RATIO`. A band's
     straight rims fit no ellipse and keep the hull.
     """
     h, w = lit.shape

@@ -36,6 +36,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import cv2
@@ -582,30 +583,37 @@ def _moving(samples: list[np.ndarray], median: np.ndarray, base: np.ndarray, lit
     darkness against `base`; a 3 x 3 opening removes isolated noise pixels. A region darker
     by `min_darkness` over more than `min_fraction` of the lit pixels means something moved.
     """
-    inv = np.where(lit, 1.0 / np.maximum(base, 1e-6), 0.0).astype(np.float32)
     need = max(16.0, min_fraction * float(lit.sum()))
     kernel = np.ones((3, 3), np.uint8)
-    sign = np.float32(1.0 if contact_is == "dark" else -1.0)
-    for f in samples:
-        diff = ((median - np.asarray(f, np.float32)) * inv * sign
-                > min_darkness).astype(np.uint8)
+    for dark in _departures(samples, median, base, lit, contact_is):
+        diff = (dark > min_darkness).astype(np.uint8)
         if cv2.countNonZero(cv2.morphologyEx(diff, cv2.MORPH_OPEN, kernel)) > need:
             return True
     return False
+
+
+def _departures(samples: list[np.ndarray], median: np.ndarray, base: np.ndarray,
+                lit: np.ndarray, contact_is: str = "dark") -> Iterator[np.ndarray]:
+    """Each sample's darkness against `median`, in units of `base`, 0 outside `lit`
+    (contact positive, for bright contact too)."""
+    inv = np.where(lit, 1.0 / np.maximum(base, 1e-6), 0.0).astype(np.float32)
+    sign = np.float32(1.0 if contact_is == "dark" else -1.0)
+    for f in samples:
+        yield (median - np.asarray(f, np.float32)) * inv * sign
 
 
 #: Contact runs in a sampled frame where a stretch of columns is darker than the samples'
 #: median by this many robust spreads (each column's spread over the samples, their median
 #: over the columns) ...
 RUN_SIGMAS = 6.0
-#: ... over at least this share of the frame's width.
+#: ... over at least this share of the lit zone's extent along the rows.
 MIN_RUN_FRACTION = 0.03
-#: Contact translates when the runs' centres over the samples span this share of the
-#: width: a block passing a fixed camera crosses the view, held contact (a static test, a
-#: camera that follows the block) stays. Measured on 168 rendered TIR clips (seed 0's 200
-#: domain draws, 24 physical draws of seeds 0 and 7): at most 0.45 where the contact is
-#: held, at least 0.77 where a block passes and :func:`_moving` misses it (faint patchy
-#: contact, 10 clips).
+#: Contact translates when the runs' centres over the samples span this share of the lit
+#: zone's extent along the rows: a block passing a fixed camera crosses the view, held
+#: contact (a static test, a camera that follows the block) stays. Measured on 168
+#: rendered TIR clips (seed 0's 200 domain draws, 24 physical draws of seeds 0 and 7; the
+#: pipeline's own samples): at most 0.22 where the contact is held (133 clips), 0.77-0.97
+#: where a block passes and :func:`_moving` misses it (faint patchy contact, 10 clips).
 MIN_TRAVEL_FRACTION = 0.6
 
 
@@ -619,25 +627,26 @@ def _widest_run(on: np.ndarray) -> tuple[int, int]:
     return int(starts[k]), int(ends[k] - starts[k])
 
 
-def _translates(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
-                contact_is: str = "dark") -> bool:
-    """True when darker contact travels along the rows through the sampled frames.
+def _travel(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
+            contact_is: str = "dark") -> float:
+    """How far darker contact travels along the rows through the sampled frames, as a
+    share of the lit zone's extent along them (0 when it is seen in fewer than 2 samples).
 
     Each frame's darkness against `median` is averaged down each column of the lit zone
-    (a profile along the sliding direction) and its median over the columns taken out
-    (exposure). Per frame, the widest run of columns darker than the samples' median
-    profile by :data:`RUN_SIGMAS` robust spreads, if it is :data:`MIN_RUN_FRACTION` of the
-    width or wider, is the contact's place; contact translates when those places span
-    :data:`MIN_TRAVEL_FRACTION` of the width. This sees a block whose contact is too faint
-    or too patchy for :func:`_moving`'s block-sized region (rough real contact).
+    (a profile along the sliding direction, over the columns from the zone's first to its
+    last) and its median over those columns taken out (exposure). Per frame, the widest
+    run of columns darker than the samples' median profile by :data:`RUN_SIGMAS` robust
+    spreads, if it is :data:`MIN_RUN_FRACTION` of the extent or wider, is the contact's
+    place; the travel is the span of those places.
     """
-    if len(samples) < 2 or not lit.any():
-        return False
-    inv = np.where(lit, 1.0 / np.maximum(median, 1e-6), 0.0).astype(np.float32)
-    n = np.maximum(lit.sum(axis=0), 1).astype(np.float32)
-    sign = np.float32(1.0 if contact_is == "dark" else -1.0)
-    prof = np.array([((median - np.asarray(f, np.float32)) * inv * sign).sum(axis=0) / n
-                     for f in samples])
+    cols = np.flatnonzero(lit.any(axis=0))
+    if len(samples) < 2 or cols.size < 2:
+        return 0.0
+    a, b = int(cols[0]), int(cols[-1]) + 1
+    zone = lit[:, a:b]
+    n = np.maximum(zone.sum(axis=0), 1).astype(np.float32)
+    prof = np.array([dark[:, a:b].sum(axis=0) / n for dark in
+                     _departures(samples, median, median, lit, contact_is)])
     prof -= np.median(prof, axis=1, keepdims=True)
     mid = np.median(prof, axis=0)
     spread = 1.4826 * np.median(np.abs(prof - mid), axis=0)
@@ -648,7 +657,16 @@ def _translates(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
         start, length = _widest_run(p - mid > RUN_SIGMAS * sigma)
         if length >= MIN_RUN_FRACTION * width:
             places.append(start + 0.5 * length)
-    return len(places) >= 2 and max(places) - min(places) >= MIN_TRAVEL_FRACTION * width
+    return (max(places) - min(places)) / width if len(places) >= 2 else 0.0
+
+
+def _translates(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
+                contact_is: str = "dark") -> bool:
+    """True when darker contact travels :data:`MIN_TRAVEL_FRACTION` of the lit zone's
+    extent along the rows through the sampled frames (:func:`_travel`): a block passing a
+    fixed camera whose contact is too faint or too patchy for :func:`_moving`'s block-sized
+    region (rough real contact)."""
+    return _travel(samples, median, lit, contact_is) >= MIN_TRAVEL_FRACTION
 
 
 def _residuals(samples: list[np.ndarray], free: np.ndarray) -> list[np.ndarray]:
