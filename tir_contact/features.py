@@ -733,13 +733,20 @@ def _valid_cumsum(valid: np.ndarray, r0: int, r1: int, flip: bool,
     return out, vc
 
 
-def _view_ends(columns: np.ndarray, counts: np.ndarray) -> tuple[int, int] | None:
-    """The first and last column (mirrored frame) whose valid pixels in the contact's rows
-    could hold a run: at least half of the most contact pixels a column holds (a run's own
-    rule, :func:`_half_runs`); where the lit zone narrows past them, a run ends because
-    the view ends. None when no column can."""
+def _view(valid: np.ndarray | None, span: tuple[int, int, int, int], flip: bool,
+          counts: np.ndarray, valid_counts: ValidCounts | None
+          ) -> tuple[list[int] | None, tuple[int, int]]:
+    """The cumulative valid pixels per column in the contact's rows (None without `valid`)
+    and the view's first and last column (mirrored frame): those whose valid pixels there
+    could hold a run, at least half of the most contact pixels a column holds (a run's own
+    rule, :func:`_half_runs`); where the lit zone narrows past them, a run ends because the
+    view ends. The image's ends without `valid`, or when no column can."""
+    n_cols = counts.shape[0]
+    if valid is None:
+        return None, (0, n_cols - 1)
+    vcum, columns = _valid_cumsum(valid, span[0], span[1], flip, valid_counts)
     seen = np.flatnonzero(columns >= (int(counts.max()) + 1) // 2)
-    return (int(seen[0]), int(seen[-1])) if seen.size else None
+    return vcum, ((int(seen[0]), int(seen[-1])) if seen.size else (0, n_cols - 1))
 
 
 # -- the frame --------------------------------------------------------------------------------
@@ -851,10 +858,8 @@ def _frame_without_geometry(
     px = layout.mm_per_px
     n_cols = d.shape[1]
     flip = layout.sliding_direction == "right"
-    r0, r1, c_lo, c_hi = span
-    view = (None if valid is None else
-            _view_ends(_valid_cumsum(valid, r0, r1, flip, valid_counts)[1], counts))
-    first = 0 if view is None else view[0]
+    _, _, c_lo, c_hi = span
+    first = _view(valid, span, flip, counts, valid_counts)[1][0]
     total = int(counts[c_lo:c_hi].sum())
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
@@ -904,16 +909,15 @@ def _element_runs(
     areas: list[int],
     p: list[float],
     n_cols: int,
-    ends: tuple[int, int] | None = None,
+    view: tuple[int, int],
 ) -> dict[int, _Run]:
     """Step 3: each element's front edge, summed length, area and first run (px).
 
     A further run of the same element adds its length and area; the front and peak stay
     the first run's. A run is clipped where it reaches the view's first or last column
-    (`ends`, mirrored frame: the lit zone's ends along the contact's rows; the image's by
-    default).
+    (`view`, mirrored frame: :func:`_view`).
     """
-    first, last = (0, n_cols - 1) if ends is None else ends
+    first, last = view
     per: dict[int, _Run] = {}
     for piece, area in zip(pieces, areas, strict=True):
         c0, c1 = piece.c0, piece.c1
@@ -939,12 +943,12 @@ def _element_rows(
     p: list[float],
     n_cols: int,
     peak_window_mm: float,
-    ends: tuple[int, int] | None = None,
+    view: tuple[int, int],
 ) -> list[ElementRow]:
     """Steps 4 to 6 of the module notes: peak, lift-off and deflection of each element
-    (lift-off only for an element whose template lies within the view's `ends`, mirrored
-    frame; the image by default)."""
-    first, last = (0, n_cols - 1) if ends is None else ends
+    (lift-off only for an element whose template lies within the `view`, mirrored frame:
+    :func:`_view`)."""
+    first, last = view
     px = layout.mm_per_px
     flip = layout.sliding_direction == "right"
     s = -1.0 if flip else 1.0
@@ -987,18 +991,15 @@ def _contact_ratio(
     layout: BlockLayout,
     span: tuple[int, int, int, int],
     n_cols: int,
-    valid: np.ndarray | None,
-    valid_counts: ValidCounts | None,
+    vcum: list[int] | None,
 ) -> float:
-    """Contact area over the nominal visible area of the fitted template (module notes)."""
+    """Contact area over the nominal visible area of the fitted template (module notes);
+    `vcum`: the valid pixels' cumulative counts per column (:func:`_view`), None without a
+    valid mask."""
     r0, r1 = span[:2]
     fronts_l, lengths_l, _ = layout._template_lists
-    if valid is not None:
-        vcum = _valid_cumsum(valid, r0, r1, layout.sliding_direction == "right",
-                             valid_counts)[0]
-        rows_px = 0.0
-    else:
-        vcum = None
+    rows_px = 0.0
+    if vcum is None:
         rows_px = float(r1 - r0)
         if layout.width_mm is not None:
             rows_px = min(rows_px, layout.width_mm / layout.mm_per_px)
@@ -1058,8 +1059,9 @@ def frame_rows(
     x0_carrier = _NAN
     if math.isfinite(x_und):
         x0_carrier = n_cols - x_und / px if flip else x_und / px
-    view = (None if valid is None else
-            _view_ends(_valid_cumsum(valid, span[0], span[1], flip, valid_counts)[1], counts))
+    # the view's ends along the contact's rows: where the lit zone ends, a run is cut and
+    # the template clipped as at the image border
+    vcum, view = _view(valid, span, flip, counts, valid_counts)
     x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier, fronts_l, lengths_l,
                      view)
     pieces = _assign(starts, ends, x0, fronts_l, lengths_l, quarters_l,
@@ -1072,11 +1074,9 @@ def frame_rows(
     total = sum(areas)  # the pieces' areas partition the columns
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
-    # the view's ends along the contact's rows: where the lit zone ends, a run is cut as at
-    # the image border
     per = _element_runs(pieces, areas, p, n_cols, view)
     rows = _element_rows(per, x0, x_und, layout, p, n_cols, peak_window_mm, view)
-    frame["contact_ratio"] = _contact_ratio(total, x0, layout, span, n_cols, valid, valid_counts)
+    frame["contact_ratio"] = _contact_ratio(total, x0, layout, span, n_cols, vcum)
     _block_values(frame, rows)
     return frame, rows
 
