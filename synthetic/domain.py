@@ -329,7 +329,8 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
     """Draw one clip of the physical world (contact mechanics and optics).
 
     Ranges (uniform unless said): the camera, light, sensor and ice of :func:`sample_spec`
-    with the static pixel scale 0.004-0.03 mm/px for the pad and the sphere (junctions from
+    (the lit zone drawn for its static view and scaled with the view: the same share of the
+    frame, its rim as many pixels) with the static pixel scale 0.004-0.03 mm/px for the pad and the sphere (junctions from
     a fifth of a pixel to several pixels wide) and 0.05-0.12 mm/px for the block, rotation
     0; roughness any of :data:`synthetic.roughness.ROUGHNESS_PRESETS`; pressure 0.5-4 bar;
     a lens blur of 0-1.5 px; a free-surface texture of 0-0.15 (rms, correlation 0.02-0.2
@@ -358,9 +359,14 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
     old_scale = cam["mm_per_px"]
     cam["mm_per_px"] = _u(rng, 0.05, 0.12) if block else _u(rng, 0.004, 0.03)
     cam["optical_blur_mm"] = _u(rng, 0.0, 1.5) * cam["mm_per_px"]
-    if "lit_center_mm" in cam:  # drawn as a share of the view at the other scale
+    if "lit_center_mm" in cam:  # the lit zone was drawn for the view at the other scale
         ratio = cam["mm_per_px"] / old_scale
         cam["lit_center_mm"] = tuple(float(c * ratio) for c in cam["lit_center_mm"])
+        # its rim too: left at the other scale's 0.3-3 mm it spanned 40-470 px of a
+        # 100-300 px frame, the zone's lit plateau and its outside were not both in view,
+        # and the truth (contact inside the rim's half-light line) left out contact seen at
+        # a third of the light
+        cam["lit_rim_mm"] = float(cam["lit_rim_mm"] * ratio)
     w_mm = cam["width_px"] * cam["mm_per_px"]
     h_mm = cam["height_px"] * cam["mm_per_px"]
     fields: dict[str, Any] = {

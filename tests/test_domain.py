@@ -164,3 +164,18 @@ def test_real_photo_specs_look_like_the_photographs():
     nominal = truth.loc[truth["element"] == 0, "nominal_contact_area_mm2"].iloc[0]
     # pi 2.75^2 = 23.76 mm^2, to the sampled rim (2 pi r h, h = 0.0357 / 4 mm)
     np.testing.assert_allclose(nominal, math.pi * 2.75**2, atol=2 * math.pi * 2.75 * 0.0357 / 4)
+
+
+def test_physical_draws_light_the_view_as_the_domain_does():
+    """A physical draw's lit zone is the domain's, scaled with the view: centre and rim drawn
+    for a static view of 0.03-0.08 mm/px (rim 0.3-3 mm) keep their size in pixels, 3.75 to
+    100 px, at the physical scale (0.004-0.12 mm/px). A rim left in mm spanned up to 470 px
+    of a 100-300 px frame, and the truth (contact inside its half-light line) was no longer
+    what the image shows."""
+    from synthetic.domain import sample_physical_specs
+
+    rims = [s.camera.lit_rim_mm / s.camera.mm_per_px
+            for s, _ in sample_physical_specs(60, seed=5) if s.camera.lit_shape != "full"]
+    assert len(rims) >= 30  # three quarters of the draws have a lit zone
+    assert min(rims) >= 0.3 / 0.08 * (1 - 1e-9) and max(rims) <= 3.0 / 0.03 * (1 + 1e-9), (
+        min(rims), max(rims))
