@@ -332,8 +332,8 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
     (the lit zone drawn for its static view and scaled with the view: the same share of the
     frame, its rim as many pixels) with the static pixel scale 0.004-0.03 mm/px for the pad
     and the sphere (junctions from a fifth of a pixel to several pixels wide) and 0.05-0.12
-    mm/px for the block, rotation
-    0; roughness any of :data:`synthetic.roughness.ROUGHNESS_PRESETS`; pressure 0.5-4 bar;
+    mm/px for the block, rotation 0; roughness any of
+    :data:`synthetic.roughness.ROUGHNESS_PRESETS`; pressure 0.5-4 bar;
     a lens blur of 0-1.5 px; a free-surface texture of 0-0.15 (rms, correlation 0.02-0.2
     mm) in half of the clips; substrate ice (glass in a quarter of the clips); pad radius
     0.3-0.45 of the smaller side of the view; sphere radius 2-8 mm; 10-40 frames (static) or
