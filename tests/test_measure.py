@@ -97,6 +97,41 @@ def test_blurred_disc_area_is_its_geometric_area():
     assert a.low_px <= true <= a.high_px
 
 
+def test_full_darkness_of_small_blurred_contacts_is_their_plateau():
+    """40 discs of radius 3-5 px, darkness 0.95, Gaussian blur 1.5 px: no pixel of the
+    smaller ones reaches the plateau (a disc's centre under the blur: 0.95 (1 - exp(-r^2 /
+    2 sigma^2)), 0.82 for r = 3, 0.946 for r = 5), and the first interior pixels' median is
+    about 0.86. Full contact's darkness is taken deeper while the median still rises: 0.90-
+    0.96 (the deepest pixels of the widest discs)."""
+    from tir_contact.measure import _interiors
+
+    for seed in (11, 12, 13):
+        rng = np.random.default_rng(seed)
+        discs = [(rng.uniform(15, 185), rng.uniform(15, 145), rng.uniform(3.0, 5.0))
+                 for _ in range(40)]
+        cov = _coverage(SHAPE, discs)
+        d = 0.95 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 1.5) + _noise(rng, 0.01)
+        m = area_model([d], _sigma_map(0.01))
+        assert float(np.median(_interiors([d], 0.485))) < 0.87  # the first interior
+        assert 0.90 <= m.contact_darkness <= 0.96, seed
+        a = frame_area(d, m)
+        assert a.low_px <= float(cov.sum()) <= a.high_px
+
+
+def test_full_darkness_of_a_wide_graded_contact_is_its_first_interior():
+    """A 60 x 100 px contact graded from 0.80 to 0.85 across (a pressure grading): its
+    median rises by under 1 % a pixel of depth, so the plateau is the first interior's
+    median, 0.825."""
+    from tir_contact.measure import _interiors
+
+    rng = np.random.default_rng(3)
+    d = _noise(rng, 0.02)
+    d[40:100, 50:150] += np.linspace(0.80, 0.85, 100, dtype=np.float32)[None, :]
+    m = area_model([d], _sigma_map(0.02))
+    assert m.contact_darkness == float(np.median(_interiors([d], 0.485)))
+    assert m.contact_darkness == pytest.approx(0.825, abs=0.005)
+
+
 def test_contacts_below_a_pixel_are_measured_by_their_darkness():
     """60 discs of radius 0.25-0.6 px (each covers at most a pixel's area), darkness 0.95,
     blur 0.7 px, noise 0.01, beside one resolved contact that shows the full darkness: the
