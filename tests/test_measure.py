@@ -164,6 +164,13 @@ def test_weak_flat_contact_is_full_contact_and_a_partial_spread_is_not():
     m = area_model([flat], _sigma_map(0.02))
     assert m.contact_source == "measured"
     assert m.contact_darkness == pytest.approx(0.3, abs=0.01)
+    # the same image is contact covering 0.3 of every pixel of the region (junctions far
+    # below the pixel): the bar reaches down to that reading, 6000 x 0.3 = 1800 px, while
+    # the area stays the stray-light reading's 6000 px (edges: 2 %)
+    assert m.weak_plateau and any("weak plateau" in n for n in m.notes)
+    a = frame_area(flat, m)
+    assert a.area_px == pytest.approx(6000, rel=0.02)
+    assert a.low_px <= 1800 * 1.02 and a.high_px >= 6000
     spread = _noise(rng, 0.02)
     spread[40:100, 50:150] += rng.uniform(0.0, 0.4, (60, 100)).astype(np.float32)
     m2 = area_model([spread], _sigma_map(0.02))

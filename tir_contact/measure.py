@@ -151,6 +151,11 @@ class AreaModel:
         :func:`area_model`.
     rim_px : int
         The rim band's width.
+    weak_plateau : bool
+        ``c`` was measured on a plateau below half the assumed darkness of full contact
+        (:func:`area_model`): full contact seen through stray light, or contact covering
+        the same share of every pixel (many junctions below a pixel each), which a single
+        image cannot tell apart; the error bar's low end holds the second reading.
     """
 
     offset: float
@@ -177,6 +182,7 @@ class AreaModel:
     rim: np.ndarray | None = field(default=None, repr=False)
     beyond: np.ndarray | None = field(default=None, repr=False)
     rim_px: int = 0
+    weak_plateau: bool = False
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -412,7 +418,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     sigma_free = float(np.median(sig[finite])) if finite.any() else 0.0
     notes: list[str] = []
     reach = seed_median if math.isfinite(seed_median) else 0.0
-    n_full = 0
+    n_full, weak = 0, False
     if contrast is not None:
         c, c_lo, c_hi, source = float(contrast), float(contrast), float(contrast), "given"
     else:
@@ -427,12 +433,19 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
             if low.size >= MIN_FULL_PX:
                 q10, q50, q90 = np.percentile(low, [10.0, 50.0, 90.0])
                 if q50 > 0 and (q90 - q10) / q50 <= MAX_PLATEAU_SPREAD:
-                    values = low
+                    values, weak = low, True
         n_full = int(values.size)
         if n_full >= MIN_FULL_PX:
             c = float(np.median(values))
             c_lo, c_hi = (float(v) for v in np.percentile(values, [10.0, 90.0]))
             source = "measured"
+            if weak:
+                notes.append(
+                    f"full contact's darkness is read from a weak plateau ({c:.3f}): full "
+                    f"contact seen through stray light of {1 - c / ASSUMED_FULL_DARKNESS:.0%} "
+                    f"of the light, or contact covering {c / ASSUMED_FULL_DARKNESS:.0%} of "
+                    "each pixel (junctions below the pixel, many to a pixel); the error bar "
+                    "reaches down to the second reading; give --contrast if you know which")
         else:
             c = ASSUMED_FULL_DARKNESS
             c_lo, c_hi = ASSUMED_FULL_RANGE
@@ -458,7 +471,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                      c_hi, source,
                      n_full, threshold, separation, notes, int(min_cluster_px), bool(static),
                      float(zone_sigma), float(zone_corr_px),
-                     *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)))
+                     *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
+                     weak_plateau=weak)
 
 
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
@@ -703,6 +717,11 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         # ice's dust, bubbles and scratches, which its free surface keeps: the bar reaches
         # down to no contact at all
         low = 0.0
+    if model.weak_plateau:
+        # the other reading of a weak plateau: every pixel of the zone covered in part (many
+        # junctions below the pixel), its darkness the share covered of full contact
+        alt = float(np.sum(d[zone] - b, dtype=np.float64)) / ASSUMED_FULL_RANGE[1]
+        low = min(low, alt - BAND_SIGMAS * sd)
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
