@@ -363,10 +363,10 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
     if "lit_center_mm" in cam:  # the lit zone was drawn for the view at the other scale
         ratio = cam["mm_per_px"] / old_scale
         cam["lit_center_mm"] = tuple(float(c * ratio) for c in cam["lit_center_mm"])
-        # its rim too: left at the other scale's 0.3-3 mm it spanned 40-470 px of a
-        # 100-300 px frame, the zone's lit plateau and its outside were not both in view,
-        # and the truth (contact inside the rim's half-light line) left out contact seen at
-        # a third of the light
+        # its rim too: left at the other scale's 0.3-3 mm it spanned up to 750 px (40-470
+        # px in the validation's draws) of a 100-300 px frame, the zone's lit plateau and
+        # its outside were not both in view, and the truth (contact inside the rim's
+        # half-light line) left out contact seen at a third of the light
         cam["lit_rim_mm"] = float(cam["lit_rim_mm"] * ratio)
     w_mm = cam["width_px"] * cam["mm_per_px"]
     h_mm = cam["height_px"] * cam["mm_per_px"]

@@ -38,8 +38,10 @@ The error bar (:func:`frame_area`): the resolved count over the plausible decisi
 (thresholds from the free surface's reach, at least ``c / 4``, to ``3 c / 4``), and the
 unmixed area over ``c``'s range plus twice its noise: the free surface's fluctuation summed
 over the unmixed pixels (correlated over ``corr_px``) and the uncertainty of ``b``; in a
-static scene down to the frame's darkness budget; and up to the unlit pixels that contact
-in the lit zone's rim band may cover past the found edge.
+static scene down to the frame's darkness budget; where ``c`` is a weak plateau
+(:attr:`AreaModel.weak_plateau`), down to the zone's darkness as the share covered of each
+pixel; and up to the unlit pixels that contact in the lit zone's rim band may cover past the
+found edge.
 """
 
 from __future__ import annotations
@@ -152,10 +154,12 @@ class AreaModel:
     rim_px : int
         The rim band's width.
     weak_plateau : bool
-        ``c`` was measured on a plateau below half the assumed darkness of full contact
-        (:func:`area_model`): full contact seen through stray light, or contact covering
-        the same share of every pixel (many junctions below a pixel each), which a single
-        image cannot tell apart; the error bar's low end holds the second reading.
+        ``c`` was measured on a plateau of the regions above the free surface's reach,
+        because fewer than :data:`MIN_FULL_PX` interior pixels reach half the assumed
+        darkness of full contact (:func:`area_model`): full contact seen through stray
+        light, or contact covering the same share of every pixel (many junctions below a
+        pixel each), which a single image cannot tell apart; the error bar's low end holds
+        the second reading.
     """
 
     offset: float
@@ -201,6 +205,7 @@ class AreaModel:
                 "darkness_range": [round(self.contact_low, r), round(self.contact_high, r)],
                 "source": self.contact_source,
                 "n_resolved_pixels": self.n_full_px,
+                "weak_plateau": self.weak_plateau,
             },
             "threshold": round(self.threshold, r),
             "separation": round(self.separation, 3) if math.isfinite(self.separation)
@@ -307,8 +312,8 @@ def _interior_levels(samples: list[np.ndarray], level: float) -> Iterator[np.nda
 
 def _plateau(samples: list[np.ndarray], level: float) -> np.ndarray:
     """Darkness of full contact's plateau: the interiors (:func:`_interiors`) of the regions
-    above `level`, taken deeper while their median still rises significantly and
-    :data:`MIN_FULL_PX` of them are left.
+    above `level`, taken deeper while their median still rises significantly, at most
+    :data:`MAX_PLATEAU_DEPTH_PX` deep, and :data:`MIN_FULL_PX` of them are left.
 
     The lens's blur spreads a contact's edge inwards: a resolved patch only a few times
     wider than the blur (the junctions of rough contact) has no pixel at the plateau at its
@@ -316,15 +321,21 @@ def _plateau(samples: list[np.ndarray], level: float) -> np.ndarray:
     0.78 at 1 px, 0.91 at 2; full contact 0.97). A wide contact's interior is at the
     plateau from the first pixel on (its median moves by the noise's share, or by a
     pressure grading's under 1 % a pixel), and keeps it. Significant: above 3 standard
-    errors of the two medians (1.2533 s / sqrt(n), s the robust spread) and above
-    :data:`PLATEAU_RISE` of the outer median.
+    errors of the two medians and above :data:`PLATEAU_RISE` of the outer one
+    (:func:`_rises`).
     """
     levels = _interior_levels(samples, level)
     values = next(levels)
-    for deeper in levels:
-        if deeper.size < MIN_FULL_PX or not _rises(values, deeper):
+    if values.size < MIN_FULL_PX:
+        return values
+    stats = _median_se(values)
+    for depth, deeper in enumerate(levels, start=2):
+        if depth > MAX_PLATEAU_DEPTH_PX or deeper.size < MIN_FULL_PX:
             break
-        values = deeper
+        inner = _median_se(deeper)
+        if not _rises(stats, inner):
+            break
+        values, stats = deeper, inner
     return values
 
 
@@ -333,16 +344,31 @@ def _plateau(samples: list[np.ndarray], level: float) -> np.ndarray:
 #: patchiness moves it by 0.3-0.7 % a pixel (domain renders: a static pad, a bright patchy
 #: block), the blur of a contact a few pixels wide by 5-15 % (rough spheres and pads).
 PLATEAU_RISE = 0.02
+#: Deepest interior (px) full contact's darkness is read from: a lens blur of up to 2 px
+#: (sigma) reaches about 3 sigma into a contact. Bright contact's darkness has no upper
+#: bound, and a graded glow would otherwise be followed to its peak.
+MAX_PLATEAU_DEPTH_PX = LOCAL_PX
 
 
-def _rises(outer: np.ndarray, inner: np.ndarray) -> bool:
-    """Whether the median of `inner` lies significantly above that of `outer`
-    (:func:`_plateau`)."""
-    def median_se(v: np.ndarray) -> tuple[float, float]:
-        q25, q50, q75 = np.percentile(v, [25.0, 50.0, 75.0])
-        return float(q50), 1.2533 * float(q75 - q25) / 1.349 / math.sqrt(v.size)
+def _median_se(v: np.ndarray) -> tuple[float, float]:
+    """Median of `v` and its standard error (1.2533 s / sqrt(n), s the robust spread), on an
+    even subsample of at most :data:`MAX_FREE_VALUES` values."""
+    v = v[::max(1, v.size // MAX_FREE_VALUES)]
+    q25, q50, q75 = np.percentile(v, [25.0, 50.0, 75.0])
+    return float(q50), 1.2533 * float(q75 - q25) / 1.349 / math.sqrt(v.size)
 
-    (m0, s0), (m1, s1) = median_se(outer), median_se(inner)
+
+def _rises(outer: tuple[float, float], inner: tuple[float, float]) -> bool:
+    """Whether the median of the deeper interior (`inner`, :func:`_median_se`) lies
+    significantly above that of the outer one (:func:`_plateau`).
+
+    The inner pixels are a subset of the outer ones, so adding the two errors as if
+    independent makes the test conservative. Texture correlated over a few pixels near the
+    level lifts the deeper pixels too (they are the ones it raised past the level): on a
+    plateau of 0.55 with texture 0.08-0.10 correlated over 3-4 px, the first interior's
+    median is 0.58-0.60 and the deepest taken 0.60-0.62; a blurred contact rises by more.
+    """
+    (m0, s0), (m1, s1) = outer, inner
     return m1 - m0 > max(3.0 * math.hypot(s0, s1), PLATEAU_RISE * abs(m0))
 
 
@@ -720,8 +746,9 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     if model.weak_plateau:
         # the other reading of a weak plateau: every pixel of the zone covered in part (many
         # junctions below the pixel), its darkness the share covered of full contact
-        alt = float(np.sum(d[zone] - b, dtype=np.float64)) / ASSUMED_FULL_RANGE[1]
-        low = min(low, alt - BAND_SIGMAS * sd)
+        full = ASSUMED_FULL_RANGE[1]
+        alt = float(np.sum(d[zone] - b, dtype=np.float64)) / full
+        low = min(low, alt - BAND_SIGMAS * sd * c / full)  # sd is in area at c
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
