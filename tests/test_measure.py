@@ -310,6 +310,32 @@ def test_static_scene_bar_spans_dust_next_to_contact():
     assert a.low_px <= truth <= a.high_px
 
 
+def test_static_scene_bar_reaches_the_resolved_contact_alone():
+    """A static scene whose only dust (darkness 0.28, blurred) lies beside its contacts
+    (12 discs of 4 px radius, darkness 0.95): the budget holds the dust too, so only the
+    reading where every seed beside resolved contact is dust brings the bar's low end
+    down to the contacts' own area."""
+    rng = np.random.default_rng(6)
+    h, w = 200, 240
+    d = rng.normal(0, 0.02, (h, w)).astype(np.float32)
+    dust = np.zeros((h, w), np.float32)
+    contact = np.zeros((h, w), np.uint8)
+    for k in range(12):
+        y, x = 30 + 45 * (k // 4), 30 + 60 * (k % 4)
+        cv2.circle(contact, (x, y), 4, 1, -1)
+        for _ in range(4):  # dust spots 6-8 px from the contact's centre
+            a = rng.uniform(0, 2 * math.pi)
+            r = rng.uniform(6, 8)
+            cv2.circle(dust, (int(x + r * math.cos(a)), int(y + r * math.sin(a))), 2, 0.28, -1)
+    d += cv2.GaussianBlur(dust, (0, 0), 0.7)
+    truth = int(contact.sum())
+    d = np.where(contact > 0, 0.95 + rng.normal(0, 0.02, (h, w)), d).astype(np.float32)
+    m = area_model([d], np.full(d.shape, 0.02, np.float32), static=True)
+    a = frame_area(d, m)
+    assert a.area_px > 1.1 * truth  # the dust beside contact is kept as contact
+    assert a.low_px <= truth <= a.high_px
+
+
 def _disc_with_stripe(h: int, w: int, radius: int, stripe_end: int, rim_px: int):
     """A lit disc (found edge at `radius`, centred) whose rim band is `rim_px` wide, a contact
     stripe (darkness 0.9, 23 px wide) from the frame's top to row `stripe_end` across its

@@ -38,7 +38,8 @@ The error bar (:func:`frame_area`): the resolved count over the plausible decisi
 (thresholds from the free surface's reach, at least ``c / 4``, to ``3 c / 4``), and the
 unmixed area over ``c``'s range plus twice its noise: the free surface's fluctuation summed
 over the unmixed pixels (correlated over ``corr_px``) and the uncertainty of ``b``; in a
-static scene down to the frame's darkness budget; where ``c`` is a weak plateau
+static scene down to the frame's darkness budget and to the resolved contact alone (the
+seeds beside it may be the ice's dust); where ``c`` is a weak plateau
 (:attr:`AreaModel.weak_plateau`), down to the zone's darkness as the share covered of each
 pixel; and up to the unlit pixels that contact in the lit zone's rim band may cover past the
 found edge.
@@ -766,6 +767,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
             # dark, so their excess is not zero-mean); the budget, with the free surface's
             # mean (dust included) taken out everywhere, is the other plausible decision
             low = min(low, budget - BAND_SIGMAS * sd_g)
+            # and so is the resolved contact alone: every seed kept beside it the ice's
+            low = min(low, min(part_res, res_lo) - BAND_SIGMAS * sd)
         high = max(high, budget + BAND_SIGMAS * sd_g)
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))
