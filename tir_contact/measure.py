@@ -737,8 +737,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         sd_zone = model.zone_sigma * math.sqrt(n_z * model.zone_corr_px)
         sd = math.sqrt(sd_sum ** 2 + sd_b ** 2 + sd_zone ** 2) / c
     area = part_res + excess_un / c
-    low = (min(part_res, res_lo) + excess_un / max(model.contact_high, 1e-6)
-           - BAND_SIGMAS * sd)
+    res_alone = min(part_res, res_lo)  # the resolved part's low end
+    low = res_alone + excess_un / max(model.contact_high, 1e-6) - BAND_SIGMAS * sd
     if model.static and model.contact_source == "assumed" and not resolved.any():
         # a static scene with no resolved contact: its faint dark spots may as well be the
         # ice's dust, bubbles and scratches, which its free surface keeps: the bar reaches
@@ -768,7 +768,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
             # mean (dust included) taken out everywhere, is the other plausible decision
             low = min(low, budget - BAND_SIGMAS * sd_g)
             # and so is the resolved contact alone: every seed kept beside it the ice's
-            low = min(low, min(part_res, res_lo) - BAND_SIGMAS * sd)
+            low = min(low, res_alone - BAND_SIGMAS * sd)
         high = max(high, budget + BAND_SIGMAS * sd_g)
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))
