@@ -18,6 +18,12 @@ ground truth. Per clip:
 * ``length_err_mm`` (TIR block): median |error| of the element contact length, elements
   wholly in the image;
 * ``angle_err_deg`` (side view): median |error| of the element deflection angle;
+* ``optical_err_pct`` and ``optical_over_real_pct`` (physical scenes, scored clips): the
+  area error as ``area_err_pct`` but against the optical contact
+  (``optical_contact_area_mm2`` of the truth: the scene's darkness over that of full
+  contact, what a perfect TIR reading counts, gaps within the evanescent depth included),
+  and how far that lies above the true contact (gap 0), in %: the part of the error no
+  reading of the image can remove, and the part the pipeline adds;
 * ``frames_scored`` / ``frames_in_band`` (TIR, scored clips): frames, and those of them whose
   true area lies inside the pipeline's own error bar ``[contact_area_low_mm2,
   contact_area_high_mm2]`` of ``frames.csv`` (no slack: the bar is the claim); absent when
@@ -127,6 +133,11 @@ def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None,
            if mean_true >= least_mm2 else np.nan}
     if mean_true >= least_mm2:
         out.update(band_counts(res.frames, block))
+        if "optical_contact_area_mm2" in truth:
+            optical = truth[truth.element == -1].set_index("frame")["optical_contact_area_mm2"]
+            out["optical_err_pct"] = (100 * float((measured - optical).abs().sum())
+                                      / float(optical.sum()))
+            out["optical_over_real_pct"] = 100 * (float(optical.sum()) / true_sum - 1)
     if lit is not None:
         px2 = float(res.summary["meta"]["mm_per_px"]) ** 2
         out["outside_lit_mm2"] = lit.outside * px2
@@ -180,8 +191,9 @@ def _compare_side(res, truth: pd.DataFrame) -> dict:
 
 def summarise(table: pd.DataFrame) -> pd.DataFrame:
     """Median and 95th percentile of each error per case class, and over all clips."""
-    metrics = [m for m in ("area_err_pct", "outside_lit_pct", "beyond_rim_pct",
-                           "length_err_mm", "angle_err_deg") if m in table]
+    metrics = [m for m in ("area_err_pct", "optical_err_pct", "optical_over_real_pct",
+                           "outside_lit_pct", "beyond_rim_pct", "length_err_mm",
+                           "angle_err_deg") if m in table]
     rows = []
     for case, group in [*table.groupby("case", sort=True), ("all", table)]:
         row = {"case": case, "clips": len(group)}

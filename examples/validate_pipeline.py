@@ -157,6 +157,9 @@ def _markdown(summary: pd.DataFrame, n: int, seed: int, title: str | None = None
             "area outside the lit zone, %"), ("beyond_rim_pct",
             "of it more than 2 px outside, %"), ("length_err_mm", "contact length error, mm"),
             ("angle_err_deg", "angle error, deg")]
+    if "optical_err_pct median" in summary:  # physical scenes: the optical contact too
+        cols[1:1] = [("optical_err_pct", "error against the optical contact, %"),
+                     ("optical_over_real_pct", "optical over true contact, %")]
     head = "| case | clips | " + " | ".join(f"{t} (median / p95)" for _, t in cols) + " |"
     lines = [f"{title or 'Random real-footage domain'}, {n} clips (seed {seed}):", "", head,
              "|" + "---|" * (len(cols) + 2)]

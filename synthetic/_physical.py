@@ -187,12 +187,17 @@ class PhysicalRender:
         Share of each pixel's area with a gap below a tenth of the evanescent depth.
     nominal : (H, W) ndarray of float32
         Share of each pixel's area inside the nominal contact disc.
+    optical : (H, W) ndarray of float32
+        Each pixel's optical contact: its darkness ``1 - R(gap)`` before the lens blur, over
+        the darkness of full contact ``1 - R(0)`` (a gap within the evanescent depth darkens
+        too: the share a perfect TIR reading counts as contact).
     """
 
     reflectance: np.ndarray
     covered: np.ndarray
     near: np.ndarray
     nominal: np.ndarray
+    optical: np.ndarray
 
 
 def _tile_lookup(
@@ -232,8 +237,9 @@ def render_physical(
     covered = np.zeros(shape, dtype=np.float32)
     near = np.zeros(shape, dtype=np.float32)
     nominal = np.zeros(shape, dtype=np.float32)
+    optical = np.zeros(shape, dtype=np.float32)
     if c0 >= c1 or r0 >= r1:
-        return PhysicalRender(refl, covered, near, nominal)
+        return PhysicalRender(refl, covered, near, nominal, optical)
     sub = (np.arange(ss) + 0.5) / ss
     xs = ((np.arange(c0, c1)[:, None] + sub[None, :]).ravel() * mm_per_px)[None, :]
     ys = ((np.arange(r0, r1)[:, None] + sub[None, :]).ravel() * mm_per_px)[:, None]
@@ -247,6 +253,8 @@ def render_physical(
         on_tile = (np.abs(xs - cx) < half) & (np.abs(ys - cy) < half)
         gap = np.where(on_tile, gap, np.inf)
     light = setup.optics.reflectance(gap)
+    full = 1.0 - float(setup.optics.reflectance(0.0))
+    optical[r0:r1, c0:c1] = pool((1.0 - light) / full, ss)
     if setup.optical_blur_mm > 0.0:
         light = gaussian_filter(light, setup.optical_blur_mm / step, mode="nearest")
     depth = setup.optics.evanescent_depth_m
@@ -254,4 +262,4 @@ def render_physical(
     covered[r0:r1, c0:c1] = pool((gap == 0.0).astype(np.float64), ss)
     near[r0:r1, c0:c1] = pool((gap < 0.1 * depth).astype(np.float64), ss)
     nominal[r0:r1, c0:c1] = pool(inside_disc.astype(np.float64), ss)
-    return PhysicalRender(refl, covered, near, nominal)
+    return PhysicalRender(refl, covered, near, nominal, optical)

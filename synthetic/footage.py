@@ -236,9 +236,11 @@ HOLDERS = ("carrier", "plate", "carriage")
 SCENES = ("block", "round_pad", "coin", "three_point", *PHYSICAL_SCENES)
 #: Extra ground-truth columns of specs that use a real-footage field.
 REAL_TRUTH_COLUMNS = ("nominal_contact_area_mm2", "real_contact_fraction")
-#: Extra ground-truth column of the physical scenes: the area whose gap is below a tenth of
-#: the evanescent depth (``contact_area_mm2`` is the true contact, gap 0).
-PHYSICAL_TRUTH_COLUMNS = ("near_contact_area_mm2",)
+#: Extra ground-truth columns of the physical scenes (``contact_area_mm2`` is the true
+#: contact, gap 0): the area whose gap is below a tenth of the evanescent depth, and the
+#: optical contact, the scene's darkness over that of full contact (what a perfect TIR
+#: reading counts: a gap within the evanescent depth darkens too).
+PHYSICAL_TRUTH_COLUMNS = ("near_contact_area_mm2", "optical_contact_area_mm2")
 
 
 # -- validation helpers --------------------------------------------------------------------
@@ -1715,8 +1717,9 @@ class _Clip:
         base: np.ndarray,
         blur_mm: float,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """TIR signal of the block's physical contact; each element's true and near-contact
-        area inside the lit mask, mm^2."""
+        """TIR signal of the block's physical contact; each element's true, near-contact and
+        optical contact area inside the lit mask, mm^2 (the optical: its darkness before
+        the blur over that of full contact)."""
         pb = self.phys_block
         n = frame.n_elements
         key = self.states.row(self._frame_k)
@@ -1737,7 +1740,7 @@ class _Clip:
                 self._phys_cache = (key, (ints, spans))
         cached = self._phys_cache[1]
         if cached is None:
-            return base.copy(), np.zeros(n), np.zeros(n)
+            return base.copy(), np.zeros(n), np.zeros(n), np.zeros(n)
         (dark_i, cov_i, near_i), spans = cached
         px = self.path.mm_per_px
         w = base.shape[1]
@@ -1758,7 +1761,8 @@ class _Clip:
                 cov[r0:r1, c0:c1] = cov_i.box_means(lo[c0:c1], hi[c0:c1]) * lat[:, c0:c1]
                 self.last_covered = cov
         weight = self._phys_weight
-        real, near = np.zeros(n), np.zeros(n)
+        real, near, optical = np.zeros(n), np.zeros(n), np.zeros(n)
+        full = 1.0 - float(self.spec.optics.reflectance(0.0))
         for i, span in enumerate(spans):
             if span is None:
                 continue
@@ -1771,7 +1775,8 @@ class _Clip:
             wc = weight[:, c] / (hi[c] - lo[c])
             real[i] = float(np.sum((cov_i.first(hb) - cov_i.first(la)) * wc))
             near[i] = float(np.sum((near_i.first(hb) - near_i.first(la)) * wc))
-        return out, real, near
+            optical[i] = float(np.sum((dark_i.first(hb) - dark_i.first(la)) * wc)) / full
+        return out, real, near, optical
 
     def _render_physical(self) -> tuple[np.ndarray, list[dict[str, Any]]]:
         """Signal and ground-truth rows of a physical scene (contact mechanics and optics)."""
@@ -1786,6 +1791,7 @@ class _Clip:
         px2 = cam.mm_per_px**2
         real = float(np.sum(r.covered[lit], dtype=np.float64)) * px2
         near = float(np.sum(r.near[lit], dtype=np.float64)) * px2
+        optical = float(np.sum(r.optical[lit], dtype=np.float64)) * px2
         nominal = float(np.sum(r.nominal[lit], dtype=np.float64)) * px2
         radius = setup.nominal_radius_mm
         load_N = setup.pressure_Pa * math.pi * (radius * 1e-3) ** 2
@@ -1804,6 +1810,7 @@ class _Clip:
             nominal_contact_area_mm2=nominal,
             real_contact_fraction=real / nominal if nominal > 0 else nan,
             near_contact_area_mm2=near,
+            optical_contact_area_mm2=optical,
         )
         total = dict(row, element=-1, front_peak_x_mm=nan)
         return sig, [total, row] if in_view else [dict(total, in_view=False)]
@@ -1877,11 +1884,13 @@ class _Clip:
                 else self.camera_base * self.ice_canvas.frame(k)
             )
             blur = 0.0 if spec.follow_camera else self.blur_of(k)
-            real = near = None
+            real = near = optical = None
             if self.patches is not None:
                 sig, real = self._render_patchy(frame, contacts, u_front, base, blur)
             elif self.phys_block is not None:
-                sig, real, near = self._render_physical_block(frame, contacts, u_front, base, blur)
+                sig, real, near, optical = self._render_physical_block(
+                    frame, contacts, u_front, base, blur
+                )
             else:
                 sig = render_tir_signal(
                     profile,
@@ -1902,6 +1911,9 @@ class _Clip:
                 for r in rows:
                     i = int(r["element"])
                     r["near_contact_area_mm2"] = float(near[i] if i >= 0 else near.sum())
+                    r["optical_contact_area_mm2"] = float(
+                        optical[i] if i >= 0 else optical.sum()
+                    )
         else:
             if spec.follow_camera:
                 tex = ice_texture_frame(

@@ -212,6 +212,38 @@ def test_rough_pad_truth_matches_the_solver_and_the_image_shows_it():
     assert darkest <= level * (r0 + 0.1)
 
 
+def _optical_from_signal(clip, k: int) -> float:
+    """The darkness of frame `k`'s noise-free signal against the scene's own light, inside
+    the lit mask, over the darkness of full contact (mm^2): read from the image the renderer
+    draws, not from the truth's integration."""
+    sig, _ = clip.signal(k)
+    base = clip.base if clip.ice_canvas is None else clip.camera_base * clip.ice_canvas.frame(k)
+    dark = 1.0 - sig.astype(np.float64) / base
+    full = 1.0 - float(clip.spec.optics.reflectance(0.0))
+    return float(dark[clip.lit.mask].sum()) / full * clip.spec.camera.mm_per_px**2
+
+
+@needs_tamaas
+def test_optical_contact_is_the_images_darkness_over_full_contact():
+    from synthetic.footage import _Clip
+
+    spec = _pad_spec(2.0)
+    clip = _Clip(spec)
+    _, truth = clip.signal(0)
+    total = truth[truth["element"] == -1].iloc[0]
+    # The truth sums each point's darkness before the lens blur; the image is blurred, which
+    # keeps the sum (the pad lies 0.2 mm inside the frame, 20 blur widths): float32 pixel
+    # sums, 1e-3.
+    assert total["optical_contact_area_mm2"] == pytest.approx(_optical_from_signal(clip, 0),
+                                                              rel=1e-3)
+    # Gaps within the evanescent depth darken too: a perfect TIR reading counts more than
+    # the true contact (gap 0), by the thin band of near gaps around each junction.
+    assert total["optical_contact_area_mm2"] > total["contact_area_mm2"]
+    # and at least 0.98 of the near contact (a gap below a tenth of the evanescent depth
+    # keeps 0.989 of full contact's darkness on ice at 60 deg, synthetic.ftir)
+    assert total["optical_contact_area_mm2"] >= 0.98 * total["near_contact_area_mm2"]
+
+
 @needs_tamaas
 def test_physical_scene_writes_covered_fraction_and_meta(tmp_path):
     import json
@@ -318,6 +350,12 @@ def test_physical_block_truth_is_the_solved_share_of_the_pressure_cells(block_cl
     ) * 25.6
     assert areas.mean() == pytest.approx(expected, rel=0.05)
     assert (total.loc[full, "near_contact_area_mm2"] >= total.loc[full, "contact_area_mm2"]).all()
+    # The optical contact: the image's darkness in the lit mask over that of full contact
+    # (the blur keeps the sum; the block lies inside the lit frame), above the true contact.
+    for k in full[:2]:
+        assert total.loc[k, "optical_contact_area_mm2"] == pytest.approx(
+            _optical_from_signal(clip, k), rel=1e-3)
+    assert (total.loc[full, "optical_contact_area_mm2"] > total.loc[full, "contact_area_mm2"]).all()
 
 
 @needs_tamaas
