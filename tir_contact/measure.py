@@ -750,11 +750,11 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     area = part_res + excess_un / c
     res_alone = min(part_res, res_lo)  # the resolved part's low end
     low = res_alone + excess_un / max(model.contact_high, 1e-6) - BAND_SIGMAS * sd
-    if model.static and model.contact_source == "assumed" and not resolved.any():
-        # a static scene with no resolved contact: its faint dark spots may as well be the
-        # ice's dust, bubbles and scratches, which its free surface keeps: the bar reaches
-        # down to no contact at all
-        low = 0.0
+    if model.static:
+        # a static scene: every seed kept beside the resolved contact may be the ice's dust,
+        # bubbles or scratches, which its free surface keeps dark: the bar reaches down to
+        # the resolved contact alone (to no contact at all where none is resolved)
+        low = min(low, res_alone - BAND_SIGMAS * sd)
     if model.weak_plateau:
         # the other reading of a weak plateau: every pixel of the zone covered in part (many
         # junctions below the pixel), its darkness the share covered of full contact
@@ -778,8 +778,6 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
             # dark, so their excess is not zero-mean); the budget, with the free surface's
             # mean (dust included) taken out everywhere, is the other plausible decision
             low = min(low, budget - BAND_SIGMAS * sd_g)
-            # and so is the resolved contact alone: every seed kept beside it the ice's
-            low = min(low, res_alone - BAND_SIGMAS * sd)
         high = max(high, budget + BAND_SIGMAS * sd_g)
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))
