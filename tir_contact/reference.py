@@ -20,7 +20,12 @@ Method of :func:`free_surface` (no contact size known in advance):
    steps 2-4 repeat. A contact wider than the disc that reaches the image border (a block
    larger than the view) shows only as its edges, which no hole fill closes: the disc is
    also doubled while that finds clearly more candidate area (over 1.2 times plus 1 % of
-   the image).
+   the image). A contact wider than both discs (a face across the whole view, from border
+   to border) stays dark under both: when over 1 % of the lit image outside the
+   candidates is darker than half of full contact against its bright light, the widest
+   disc (the whole view) is tried, and kept when at least 90 % of the pixels it adds are
+   that dark against its closing (a fall-off or texture it flattens grades down to the
+   free surface instead).
 5. The free surface is the smoothed image itself away from the candidates (so a soft rim
    or a speck of dust stays where it is). Over each candidate and a margin of 6 px around
    it, a quadratic surface fitted to a ring of free surface around it continues the light
@@ -308,6 +313,15 @@ def free_surface(
         # disc twice as wide finds clearly more candidate area then.
         wider = min(2 * size + 1, largest)
         trial = candidates(wider)
+        if (trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size and wider < largest
+                and _dark_beyond(smooth, cand, lit_mask)):
+            # contact wider than both discs (a block filling the view from border to
+            # border) is dark under both alike: the widest disc (the whole view) fills it,
+            # and the pixels it adds are contact when they are at contact's darkness
+            trial = candidates(largest)
+            if not _contact_dark(trial, cand, smooth):
+                break
+            wider = largest
         if trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size:
             break
         size, (closed, cand, widest) = wider, trial
@@ -321,6 +335,35 @@ def free_surface(
         surface = (top - surface).astype(np.float32)
     tex, tex_corr = _texture(smooth, lit_mask & ~margin) if texture else (0.0, 1.0)
     return FreeSurface(surface, cand, size, widest, tex, tex_corr)
+
+
+def _dark_beyond(smooth: np.ndarray, cand: np.ndarray, lit: np.ndarray) -> bool:
+    """Whether over 1 % of the image is lit, outside the candidates `cand` and darker than
+    half of full contact against the bright light (the 95th percentile of the lit
+    image): only then can contact wider than the discs remain unfound (the widest disc's
+    closing is not tried otherwise)."""
+    values = smooth[lit]
+    if values.size == 0:
+        return False
+    bright = float(np.percentile(values, 95.0))
+    dark = (smooth < (1.0 - ASSUMED_FULL_DARKNESS / 2) * bright) & lit & ~cand
+    return int(np.count_nonzero(dark)) > 0.01 * smooth.size
+
+
+def _contact_dark(trial: tuple[np.ndarray, np.ndarray, float], cand: np.ndarray,
+                  smooth: np.ndarray) -> bool:
+    """Whether the candidates a wider disc adds (`trial`: its closing and candidates, over
+    the candidates `cand` of the narrower one) are contact: at least 90 % of them darker
+    against its closing than half of full contact (the resolved contact's threshold, at
+    the assumed full darkness). A light field's fall-off, a rim or a texture that the
+    widest disc flattens grades down to the free surface instead."""
+    closed, wide, _ = trial
+    extra = wide & ~cand
+    if not extra.any():
+        return False
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = 1.0 - smooth[extra] / np.maximum(closed[extra], 1e-6)
+    return float(np.percentile(d, 10.0)) >= ASSUMED_FULL_DARKNESS / 2
 
 
 #: Scale (Gaussian sigma, px) of the light field an estimate over a contact continues:
