@@ -1716,7 +1716,7 @@ class _Clip:
         u_front: float,
         base: np.ndarray,
         blur_mm: float,
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """TIR signal of the block's physical contact; each element's true, near-contact and
         optical contact area inside the lit mask, mm^2 (the optical: its darkness before
         the blur over that of full contact)."""

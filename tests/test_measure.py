@@ -16,6 +16,7 @@ import pytest
 
 from tir_contact.measure import (
     ASSUMED_FULL_DARKNESS,
+    MIN_FULL_PX,
     area_model,
     frame_area,
 )
@@ -400,6 +401,19 @@ def test_rim_band_is_as_wide_as_the_zones_rim():
     assert _rim_band(LitZone(zone.mask, zone.rim, "found"))[2] in (6, 7)
 
 
+def _junction_field(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Covered share of each pixel by junctions far below it (an 8 x 8 subgrid, each
+    point covered with a probability falling as a Gaussian from 0.25 at (100, 80) px,
+    sigma 15 px), and its darkness at 0.97 with noise 0.01."""
+    ss = 8
+    h, w = SHAPE
+    yy, xx = np.mgrid[0:h * ss, 0:w * ss]
+    r2 = ((xx + 0.5) / ss - 100.0) ** 2 + ((yy + 0.5) / ss - 80.0) ** 2
+    share = 0.25 * np.exp(-r2 / (2 * 15.0**2))
+    cov = (rng.random(share.shape) < share).reshape(h, ss, w, ss).mean(axis=(1, 3))
+    return cov, (0.97 * cov).astype(np.float32) + _noise(rng, 0.01)
+
+
 def test_junction_field_below_the_seed_level_is_counted_in_the_box():
     """A field of junctions far below a pixel (the share of each pixel in contact drawn on
     an 8 x 8 subgrid with a probability that falls as a Gaussian from 0.25 at the centre,
@@ -411,23 +425,39 @@ def test_junction_field_below_the_seed_level_is_counted_in_the_box():
     import dataclasses
 
     rng = np.random.default_rng(5)
-    ss = 8
-    h, w = SHAPE
-    yy, xx = np.mgrid[0:h * ss, 0:w * ss]
-    r2 = ((xx + 0.5) / ss - 100.0) ** 2 + ((yy + 0.5) / ss - 80.0) ** 2
-    share = 0.25 * np.exp(-r2 / (2 * 15.0**2))
-    cov = (rng.random(share.shape) < share).reshape(h, ss, w, ss).mean(axis=(1, 3))
-    d = (0.97 * cov).astype(np.float32) + _noise(rng, 0.01)
+    cov, d = _junction_field(rng)
     # the video's sampled frames: one before the block arrives, and this one (the free
     # surface's offset from this frame alone is lifted by the field's faint fifth of it:
     # -4 % over the box)
     m = area_model([_noise(rng, 0.01), d], _sigma_map(0.01))
     assert m.contact_source == "assumed"
-    box = (slice(0, h), slice(0, w))
+    box = (slice(0, SHAPE[0]), slice(0, SHAPE[1]))
     a = frame_area(d, m, box)
     true = float(cov.sum())
     assert a.resolved_px == 0
     assert a.area_px == pytest.approx(true, rel=0.03)
     assert a.low_px <= true <= a.high_px
-    zone_only = frame_area(d, dataclasses.replace(m, contact_source="measured"), box)
+    # as where the sampled frames showed resolved contact: the seeds' zone alone
+    zone_only = frame_area(d, dataclasses.replace(m, n_full_px=MIN_FULL_PX), box)
     assert zone_only.area_px < 0.93 * true
+
+
+def test_junction_field_with_its_contrast_given_and_a_frame_of_noise_alone():
+    """The field reading rests on the sampled frames showing no resolved contact, not on an
+    assumed full darkness: with the contrast given (0.97, the field's own) the field of the
+    test above reads its covered area to 3 % as well. A frame of noise alone with one
+    stray seed (0.08, which the cluster test rejects) reads no contact, not the box's noise
+    summed (which is below zero about as often as above)."""
+    rng = np.random.default_rng(5)
+    cov, d = _junction_field(rng)
+    m = area_model([_noise(rng, 0.01), d], _sigma_map(0.01), contrast=0.97)
+    assert m.contact_source == "given"
+    box = (slice(0, SHAPE[0]), slice(0, SHAPE[1]))
+    assert frame_area(d, m, box).area_px == pytest.approx(float(cov.sum()), rel=0.03)
+    assumed = area_model([_noise(rng, 0.01), d], _sigma_map(0.01))
+    for k in range(20):
+        e = _noise(np.random.default_rng(100 + k), 0.01)
+        e[60, 60] = 0.08
+        for model in (m, assumed):
+            a = frame_area(e, model, (slice(40, 81), slice(40, 81)))
+            assert a.area_px == a.low_px == 0.0

@@ -24,13 +24,14 @@ than the blur: their pixels reach ``c`` and a blurred edge is half covered at ``
 connected region at the half-contact threshold with an interior (a pixel whose 3 x 3
 neighbourhood is all above it); its area is its pixel count. Everything else that is
 significantly dark (a seed pixel and its neighbours) is unmixed: its area is
-``sum(D - b) / c``. Where the video shows no resolved contact (``c`` assumed) and the free
-surface is the video's own (a fixed camera: the box around the seeds is read), the contact
-is a field of junctions below the pixel whose share, and darkness, falls continuously to
-zero at the field's edge, below any seed level: every pixel of the box outside the
-resolved edges is unmixed (the free surface's fluctuation is zero-mean about ``b`` there;
-its noise over the box is in the error bar). A physical block's faces at 2-27 % real
-contact: 5 % of their optical contact lay below the seeds' zone.
+``sum(D - b) / c``. Where the sampled frames show no resolved contact and the free surface
+is the video's own (a fixed camera: the box around the seeds is read), the contact is a
+field of junctions below the pixel whose share, and darkness, falls continuously to zero at
+the field's edge, below any seed level: in a frame with contact, every pixel of the box
+outside the resolved edges is unmixed (the free surface's fluctuation is zero-mean about
+``b`` there; its noise over the box is in the error bar, a drift of the light from frame
+to frame is not: it adds its darkness times the box's pixels). A physical block's faces at
+2-27 % real contact: 5 % of their optical contact lay below the seeds' zone.
 
 ``c`` is measured as the median darkness of the resolved interiors in the sampled frames
 (:data:`MIN_FULL_PX` pixels at least; taken deeper inside while it still rises, where the
@@ -142,7 +143,9 @@ class AreaModel:
         ``c`` and its plausible range.
     contact_source : {"measured", "given", "assumed"}
     n_full_px : int
-        Resolved interior pixels ``c`` was measured on.
+        Resolved interior pixels ``c`` was measured on (a given ``c``: the sampled frames'
+        interior pixels at half of it); under :data:`MIN_FULL_PX`, no contact in the
+        sampled frames is resolved (junctions below the pixel only).
     threshold : float
         The half-contact threshold: ``c / 2``, at least the free surface's reach.
     separation : float
@@ -454,6 +457,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     n_full, weak = 0, False
     if contrast is not None:
         c, c_lo, c_hi, source = float(contrast), float(contrast), float(contrast), "given"
+        n_full = int(_interiors(samples, max(c / 2, reach)).size) if samples else 0
     else:
         values = _plateau(samples, max(ASSUMED_FULL_DARKNESS / 2, reach))
         if values.size < MIN_FULL_PX and reach < ASSUMED_FULL_DARKNESS / 2 and not static:
@@ -719,9 +723,10 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     zone_res = edge & finite
     zone_un = near & ~edge & finite
     zone = zone_res | zone_un
-    # the pixels unmixed beyond the resolved part: the zone's, or in a junction field the
-    # box's every one (module notes)
-    field = not whole and model.contact_source == "assumed"
+    # the pixels unmixed beyond the resolved part: the zone's, or in a junction field (no
+    # resolved contact in the sampled frames) with contact in this frame, the box's every
+    # one (module notes)
+    field = not whole and model.n_full_px < MIN_FULL_PX and zone.any()
     sum_un = ~edge & finite if field else zone_un
     # faint contact beyond them: the excess darkness of a ring around the zone
     ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & finite
@@ -779,6 +784,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
             # mean (dust included) taken out everywhere, is the other plausible decision
             low = min(low, budget - BAND_SIGMAS * sd_g)
         high = max(high, budget + BAND_SIGMAS * sd_g)
+    area = max(area, 0.0)  # a field's box of noise alone may sum below zero
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))
     return FrameArea(float(area), float(low), float(high), n_res, float(excess_un / c))

@@ -21,8 +21,8 @@ Method of :func:`free_surface` (no contact size known in advance):
    larger than the view) shows only as its edges, which no hole fill closes: the disc is
    also doubled while that finds clearly more candidate area (over 1.2 times plus 1 % of
    the image). A contact wider than both discs (a face across the whole view, from border
-   to border) stays dark under both: when over 1 % of the lit image outside the
-   candidates is darker than half of full contact against its bright light, the widest
+   to border) stays dark under both: when lit pixels outside the candidates, over 1 % of
+   the image, are darker than half of full contact against its bright light, the widest
    disc (the whole view) is tried, and kept when at least 90 % of the pixels it adds are
    that dark against its closing (a fall-off or texture it flattens grades down to the
    free surface instead).
@@ -338,10 +338,10 @@ def free_surface(
 
 
 def _dark_beyond(smooth: np.ndarray, cand: np.ndarray, lit: np.ndarray) -> bool:
-    """Whether over 1 % of the image is lit, outside the candidates `cand` and darker than
-    half of full contact against the bright light (the 95th percentile of the lit
-    image): only then can contact wider than the discs remain unfound (the widest disc's
-    closing is not tried otherwise)."""
+    """Whether the lit pixels outside the candidates `cand` that are darker than half of
+    full contact against the bright light (the 95th percentile of the lit image) are over
+    1 % of the image: only then can contact wider than the discs remain unfound (the
+    widest disc's closing is not tried otherwise)."""
     values = smooth[lit]
     if values.size == 0:
         return False
