@@ -122,7 +122,8 @@ def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
 
 def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None,
                  least_mm2: float = MIN_SCORED_MM2) -> dict:
-    block = truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
+    total = truth[truth.element == -1].set_index("frame")
+    block = total["contact_area_mm2"]
     measured = res.frames.set_index("frame")["contact_area_mm2"].reindex(block.index)
     true_sum = float(block.sum())
     mean_true = true_sum / max(len(block), 1)
@@ -133,8 +134,8 @@ def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None,
            if mean_true >= least_mm2 else np.nan}
     if mean_true >= least_mm2:
         out.update(band_counts(res.frames, block))
-        if "optical_contact_area_mm2" in truth:
-            optical = truth[truth.element == -1].set_index("frame")["optical_contact_area_mm2"]
+        if "optical_contact_area_mm2" in total:
+            optical = total["optical_contact_area_mm2"]
             out["optical_err_pct"] = (100 * float((measured - optical).abs().sum())
                                       / float(optical.sum()))
             out["optical_over_real_pct"] = 100 * (float(optical.sum()) / true_sum - 1)

@@ -253,8 +253,7 @@ def render_physical(
         on_tile = (np.abs(xs - cx) < half) & (np.abs(ys - cy) < half)
         gap = np.where(on_tile, gap, np.inf)
     light = setup.optics.reflectance(gap)
-    full = 1.0 - float(setup.optics.reflectance(0.0))
-    optical[r0:r1, c0:c1] = pool((1.0 - light) / full, ss)
+    optical[r0:r1, c0:c1] = pool((1.0 - light) / setup.optics.contact_darkness, ss)
     if setup.optical_blur_mm > 0.0:
         light = gaussian_filter(light, setup.optical_blur_mm / step, mode="nearest")
     depth = setup.optics.evanescent_depth_m

@@ -1762,7 +1762,7 @@ class _Clip:
                 self.last_covered = cov
         weight = self._phys_weight
         real, near, optical = np.zeros(n), np.zeros(n), np.zeros(n)
-        full = 1.0 - float(self.spec.optics.reflectance(0.0))
+        full = self.spec.optics.contact_darkness
         for i, span in enumerate(spans):
             if span is None:
                 continue

@@ -142,6 +142,11 @@ class FtirOptics:
             return math.inf
         return self.wavelength_nm * 1e-9 / (2.0 * math.pi * math.sqrt(s))
 
+    @property
+    def contact_darkness(self) -> float:
+        """Darkness of full contact, ``1 - R(0)``: the light a gap of zero takes out."""
+        return 1.0 - float(self.reflectance(0.0))
+
     def _kz(self, n: complex) -> complex:
         """Normal wave number of a layer of index ``n`` over k0 (root with Im >= 0)."""
         kz = np.sqrt(complex(n) ** 2 - self.tangential_index**2 + 0j)

@@ -457,7 +457,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     n_full, weak = 0, False
     if contrast is not None:
         c, c_lo, c_hi, source = float(contrast), float(contrast), float(contrast), "given"
-        n_full = int(_interiors(samples, max(c / 2, reach)).size) if samples else 0
+        n_full = int(_interiors(samples, max(c / 2, reach)).size)
     else:
         values = _plateau(samples, max(ASSUMED_FULL_DARKNESS / 2, reach))
         if values.size < MIN_FULL_PX and reach < ASSUMED_FULL_DARKNESS / 2 and not static:
@@ -727,11 +727,12 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     # resolved contact in the sampled frames) with contact in this frame, the box's every
     # one (module notes)
     field = not whole and model.n_full_px < MIN_FULL_PX and zone.any()
-    sum_un = ~edge & finite if field else zone_un
-    # faint contact beyond them: the excess darkness of a ring around the zone
-    ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & finite
-    ring &= ~(zone_res | sum_un)
-    missed = max(float(np.sum(d[ring] - b, dtype=np.float64)), 0.0) / c
+    if field:  # every measured pixel of the box is counted: none is beyond them
+        sum_un, missed = ~edge & finite, 0.0
+    else:  # faint contact beyond the zone: the excess darkness of a ring around it
+        sum_un = zone_un
+        ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & ~zone & finite
+        missed = max(float(np.sum(d[ring] - b, dtype=np.float64)), 0.0) / c
     # the resolved part over the plausible decisions: counted at any threshold between the
     # free surface's reach (at least c / 4) and 3 c / 4, or unmixed
     t_lo = max(model.seed_median, c / 4) if math.isfinite(model.seed_median) else c / 4
@@ -763,8 +764,9 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     if model.weak_plateau:
         # the other reading of a weak plateau: every pixel of the zone covered in part (many
         # junctions below the pixel), its darkness the share covered of full contact
+        # (c measured: no junction field, the unmixed pixels are the zone's own)
         full = ASSUMED_FULL_RANGE[1]
-        alt = float(np.sum(d[zone] - b, dtype=np.float64)) / full
+        alt = (float(np.sum(d[zone_res] - b, dtype=np.float64)) + excess_un) / full
         low = min(low, alt - BAND_SIGMAS * sd * c / full)  # sd is in area at c
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)

@@ -299,6 +299,10 @@ def free_surface(
             widest = min(2.0 * float(dist.max()), float(max(img.shape)))
         return closed, cand, widest
 
+    def no_more(trial: tuple[np.ndarray, np.ndarray, float]) -> bool:
+        # a wider disc's candidates are not clearly more (1.2 times plus 1 % of the image)
+        return trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size
+
     closed, cand, widest = candidates(size)
     for _ in range(6):
         if not grow or size >= largest:
@@ -313,8 +317,7 @@ def free_surface(
         # disc twice as wide finds clearly more candidate area then.
         wider = min(2 * size + 1, largest)
         trial = candidates(wider)
-        if (trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size and wider < largest
-                and _dark_beyond(smooth, cand, lit_mask)):
+        if no_more(trial) and wider < largest and _dark_beyond(smooth, cand, lit_mask):
             # contact wider than both discs (a block filling the view from border to
             # border) is dark under both alike: the widest disc (the whole view) fills it,
             # and the pixels it adds are contact when they are at contact's darkness
@@ -322,7 +325,7 @@ def free_surface(
             if not _contact_dark(trial, cand, smooth):
                 break
             wider = largest
-        if trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size:
+        if no_more(trial):
             break
         size, (closed, cand, widest) = wider, trial
     margin = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
