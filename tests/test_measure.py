@@ -225,6 +225,105 @@ def test_texture_past_half_contact_is_said_and_the_budget_holds_the_area():
     assert a.high_px - a.low_px > true
 
 
+
+def _bubbles(rng: np.random.Generator, shape, n: int, darkness: float) -> np.ndarray:
+    """Darkness of `n` bubbles (discs of radius 10-30 px), each taking `darkness` of the
+    light that reaches it: overlaps multiply, so the field is bounded by its deepest
+    overlap (not Gaussian)."""
+    h, w = shape
+    yy, xx = np.mgrid[:h, :w]
+    light = np.ones(shape)
+    for _ in range(n):
+        cx, cy, r = rng.uniform(0, w), rng.uniform(0, h), rng.uniform(10.0, 30.0)
+        light[(xx - cx) ** 2 + (yy - cy) ** 2 < r * r] *= 1.0 - darkness
+    return (1.0 - light).astype(np.float32)
+
+
+@pytest.mark.parametrize("seed", [2, 4])
+def test_bounded_texture_reach_is_read_off_the_free_pixels(seed):
+    """Bubbles of darkness 0.10 (overlaps up to 0.41) and noise 0.01 around six resolved
+    contacts (discs of 8 px, 0.95, blur 1 px). The Gaussian extrapolation of the bright
+    half's spread puts the free surface's reach at 0.52-0.57, past half of full contact
+    (0.475): the populations would not separate. The reach read off the free pixels is
+    the texture's bound plus the largest noise among about 5 x 10^4 pixels (4.3 sigma):
+    within 0.05 above the deepest overlap away from the contacts. The decision is then
+    half of full contact, and the area is the discs' to 3 % (the bubbles under the edge
+    bands add their darkness there: at most 0.41 over a band of about 2 x 50 px a disc,
+    about 2 % of 1200 px on average), inside the bar."""
+    rng = np.random.default_rng(seed)
+    shape = (240, 240)
+    texture = _bubbles(rng, shape, 40, 0.10)
+    cov = _coverage(shape, [(rng.uniform(30, 210), rng.uniform(30, 210), 8.0)
+                            for _ in range(6)], ss=4)
+    contact = 0.95 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 1.0)
+    d = 1.0 - (1.0 - texture) * (1.0 - contact) + _noise(rng, 0.01, shape)
+    m = area_model([d], _sigma_map(0.01, shape))
+    away = cv2.dilate((cov > 0).astype(np.uint8), np.ones((15, 15), np.uint8)) == 0
+    bound = float(texture[away].max())
+    assert m.reach_measured
+    assert bound <= m.seed_median <= bound + 0.05
+    assert m.separation > 1.0 and not any("do not separate" in n for n in m.notes)
+    assert m.threshold == pytest.approx(m.contact_darkness / 2)
+    a = frame_area(d, m)
+    true = float(cov.sum())
+    assert a.area_px == pytest.approx(true, rel=0.03)
+    assert a.low_px <= true <= a.high_px
+    assert m.summary()["free_surface"]["reach_source"] == "measured"
+
+
+def test_gaussian_texture_keeps_the_extrapolated_reach():
+    """Where the free surface is Gaussian (noise 0.02 around a resolved contact), the
+    extrapolation stays below half of full contact and is kept."""
+    rng = np.random.default_rng(5)
+    d = _noise(rng, 0.02)
+    d[40:100, 50:150] += 0.8
+    m = area_model([d], _sigma_map(0.02))
+    assert not m.reach_measured
+    assert m.summary()["free_surface"]["reach_source"] == "gaussian"
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_static_scene_reads_junctions_over_a_bubble_against_its_local_free_surface(seed):
+    """A static scene whose free surface kept a bubble (a plateau of 0.2, 60 px across)
+    under a resolved contact (a disc of 6 px, 0.95, blur 1 px) and its junctions (40
+    discs of 0.3-0.6 px within 14 px of it). Read against the video's free surface the
+    bubble's plateau in the zone around the contact counts as contact (+100 %); against
+    the local free surface (the darkness's grey opening) only the junctions rise above
+    it. What is left: the resolved contact's edge band over the bubble (about 80 px read
+    at 0.2) and its blur, about +15 % of 135 px: within 20 %, inside the bar."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[:SHAPE[0], :SHAPE[1]]
+    bubble = 0.2 * (((xx - 100) ** 2 + (yy - 80) ** 2) < 30 ** 2)
+    spots = [(100 + rng.uniform(-14, 14), 80 + rng.uniform(-14, 14), rng.uniform(0.3, 0.6))
+             for _ in range(40)]
+    cov = _coverage(SHAPE, [(100.0, 80.0, 6.0), *spots])
+    contact = 0.95 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 1.0)
+    d = (1.0 - (1.0 - bubble) * (1.0 - contact)).astype(np.float32) + _noise(rng, 0.01)
+    m = area_model([d], _sigma_map(0.01), static=True)
+    a = frame_area(d, m)
+    true = float(cov.sum())
+    assert a.area_px == pytest.approx(true, rel=0.20)
+    assert a.low_px <= true <= a.high_px
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_static_scene_bar_holds_junctions_beyond_the_zone(seed):
+    """A static scene: a resolved contact (a disc of 6 px, 113 px) and a cluster of 70
+    junctions (0.4-0.7 px) 28-42 px from it, beyond the zone unresolved contact is sought
+    in (:data:`ZONE_PX`). The area leaves them out (they may be the ice's dust in a static
+    scene); the bar's high end holds them, so the truth (about 170 px) lies in it."""
+    rng = np.random.default_rng(seed)
+    far = [(135 + rng.uniform(-7, 7), 80 + rng.uniform(-7, 7), rng.uniform(0.4, 0.7))
+           for _ in range(70)]
+    cov = _coverage(SHAPE, [(100.0, 80.0, 6.0), *far])
+    d = 0.95 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 1.0) + _noise(rng, 0.01)
+    m = area_model([d], _sigma_map(0.01), static=True)
+    a = frame_area(d, m)
+    disc = float(_coverage(SHAPE, [(100.0, 80.0, 6.0)]).sum())
+    true = float(cov.sum())
+    assert a.area_px == pytest.approx(disc, rel=0.02)
+    assert a.low_px <= true <= a.high_px
+
 def test_box_limits_the_search():
     rng = np.random.default_rng(11)
     d = _noise(rng, 0.02)

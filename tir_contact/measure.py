@@ -18,20 +18,31 @@ Two populations follow. The **free surface** is measured where contact cannot re
 contact only adds darkness, so the side of the darkness distribution below its median is
 free surface alone; its spread, taken as symmetric about the median, gives the darkness a
 free pixel reaches (``seed`` threshold: the expected number of free pixels of a frame
-above it is :data:`FALSE_SEEDS_PER_FRAME`). **Contact** is either *resolved* (patches wider
+above it is :data:`FALSE_SEEDS_PER_FRAME`). Where that extrapolation passes half of full
+contact, the texture may be bounded rather than Gaussian (bubbles and dust in the ice, a
+static estimate's large-scale error), and the reach is read off the free pixels instead:
+the darkest pixel away from resolved contact (:func:`_measured_reach`), when that lies
+lower. **Contact** is either *resolved* (patches wider
 than the blur: their pixels reach ``c`` and a blurred edge is half covered at ``c / 2``) or
 *unresolved* (junctions below a pixel: a pixel reads ``c * phi``). A resolved region is a
 connected region at the half-contact threshold with an interior (a pixel whose 3 x 3
 neighbourhood is all above it); its area is its pixel count. Everything else that is
 significantly dark (a seed pixel and its neighbours) is unmixed: its area is
-``sum(D - b) / c``. Where the sampled frames show no resolved contact and the free surface
-is the video's own (a fixed camera: the box around the seeds is read), the contact is a
-field of junctions below the pixel whose share, and darkness, falls continuously to zero at
-the field's edge, below any seed level: in a frame with contact, every pixel of the box
-outside the resolved edges is unmixed (the free surface's fluctuation is zero-mean about
-``b`` there; its noise over the box is in the error bar, a drift of the light from frame
-to frame is not: it adds its darkness times the box's pixels). A physical block's faces at
-2-27 % real contact: 5 % of their optical contact lay below the seeds' zone.
+``sum(D - b) / c``. In a static scene that shows resolved contact, the free-surface
+estimate is continued over the contact from around it and keeps the ice's bubbles and
+scratches dark there: its seeds and unmixed pixels are read against the local free
+surface instead (the darkness's grey opening by a disc as wide as the zone around
+resolved contact, :func:`_over_local_free`), and only seeds within that zone
+(:data:`ZONE_PX`) are contact (farther ones may be the ice's dust).
+
+Where the sampled frames show no resolved contact and the free surface is the video's own (a
+fixed camera: the box around the seeds is read), the contact is a field of junctions below
+the pixel whose share, and darkness, falls continuously to zero at the field's edge, below
+any seed level: in a frame with contact, every pixel of the box outside the resolved edges
+is unmixed (the free surface's fluctuation is zero-mean about ``b`` there; its noise over
+the box is in the error bar, a drift of the light from frame to frame is not: it adds its
+darkness times the box's pixels). A physical block's faces at 2-27 % real contact: 5 % of
+their optical contact lay below the seeds' zone.
 
 ``c`` is measured as the median darkness of the resolved interiors in the sampled frames
 (:data:`MIN_FULL_PX` pixels at least; taken deeper inside while it still rises, where the
@@ -46,7 +57,8 @@ The error bar (:func:`frame_area`): the resolved count over the plausible decisi
 unmixed area over ``c``'s range plus twice its noise: the free surface's fluctuation summed
 over the unmixed pixels (correlated over ``corr_px``) and the uncertainty of ``b``; in a
 static scene down to the frame's darkness budget and to the resolved contact alone (the
-seeds beside it may be the ice's dust); where ``c`` is a weak plateau
+seeds beside it may be the ice's dust) and up to the significant seed clusters beyond the
+zone (junctions of the same contact farther out); where ``c`` is a weak plateau
 (:attr:`AreaModel.weak_plateau`), down to the zone's darkness as the share covered of each
 pixel; and up to the unlit pixels that contact in the lit zone's rim band may cover past the
 found edge.
@@ -163,6 +175,9 @@ class AreaModel:
         :func:`area_model`.
     rim_px : int
         The rim band's width.
+    reach_measured : bool
+        The free surface's reach was read off its pixels (:func:`_measured_reach`), the
+        Gaussian extrapolation passing half of full contact; False: the extrapolation.
     weak_plateau : bool
         ``c`` was measured on a plateau of the regions above the free surface's reach,
         because fewer than :data:`MIN_FULL_PX` interior pixels reach half the assumed
@@ -197,6 +212,7 @@ class AreaModel:
     beyond: np.ndarray | None = field(default=None, repr=False)
     rim_px: int = 0
     weak_plateau: bool = False
+    reach_measured: bool = False
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -208,6 +224,7 @@ class AreaModel:
                 "sigma": round(self.sigma_free, r),
                 "correlation_px": round(self.corr_px, 3),
                 "reach": round(self.seed_median, r),
+                "reach_source": "measured" if self.reach_measured else "gaussian",
                 "n_pixels": self.n_free,
             },
             "contact": {
@@ -360,6 +377,69 @@ PLATEAU_RISE = 0.02
 MAX_PLATEAU_DEPTH_PX = LOCAL_PX
 
 
+#: Share of full contact's darkness above which a pixel is surely inside resolved contact
+#: when the free surface's reach is measured (:func:`_measured_reach`): the half-contact
+#: decision's upper end (:func:`frame_area`'s band).
+CORE_SHARE = 0.75
+
+
+def _measured_reach(samples: list[np.ndarray], core_level: float) -> float:
+    """The darkness the free surface reaches, measured: the largest darkness over the
+    sampled frames of the pixels farther than :data:`LOCAL_PX` from any pixel at
+    `core_level` (resolved contact and its blurred edge, which the lens's blur of up to
+    2 px sigma keeps within 3 sigma of the interior); NaN where no sample holds
+    :data:`MIN_FULL_PX` such core pixels together or no pixel is left.
+
+    The Gaussian reach (:func:`area_model`) extrapolates the spread of the free surface's
+    bright half to the false-seed rate; a texture that is not Gaussian, bounded instead
+    (bubbles and dust in the ice, a static estimate's large-scale error), lies far below
+    that extrapolation, and the largest darkness its pixels take is a direct reading of
+    where it ends (with :data:`MAX_FREE_FRAMES` frames of 10^4-10^5 pixels, the level a
+    free pixel passes about once in those frames; the false-seed rate asks for a few
+    times rarer, so the reading is lowered by no more than the last pixels' noise).
+    Unresolved contact away from the cores counts as free surface here, which only
+    raises the reading (the Gaussian reach stays the bound).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(2)
+    >>> d = rng.uniform(0.0, 0.4, (100, 100)).astype(np.float32)  # bounded texture
+    >>> d[30:60, 30:60] = 0.95                                     # resolved contact
+    >>> round(_measured_reach([d], 0.75 * 0.97), 2)
+    0.4
+    """
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * LOCAL_PX + 1,) * 2)
+    top, n_core = -math.inf, 0
+    for d in samples:
+        with np.errstate(invalid="ignore"):
+            core = (d >= core_level).astype(np.uint8)
+        n_core += int(np.count_nonzero(core))
+        away = ~cv2.dilate(core, disc).view(np.bool_) & np.isfinite(d)
+        if away.any():
+            top = max(top, float(d[away].max()))
+    return top if n_core >= MIN_FULL_PX and math.isfinite(top) else math.nan
+
+
+def _bounded_reach(few: list[np.ndarray], sigma_noise: np.ndarray, seed: np.ndarray,
+                   seed_median: float, b: float, contrast: float | None
+                   ) -> tuple[np.ndarray, float, bool]:
+    """The per-pixel seed level, its median and whether it was measured: where the Gaussian
+    reach `seed_median` passes half of full contact (`contrast`, or the assumed darkness),
+    the reach read off the free pixels (:func:`_measured_reach`) when it lies lower (a
+    bounded texture ends far below the extrapolation) and not within three noise sigmas
+    of the core level (there it may be the free surface cut at the level, its pixels past
+    it taken for cores); else `seed` and `seed_median` as they are."""
+    full = float(contrast) if contrast is not None else ASSUMED_FULL_DARKNESS
+    if not (math.isfinite(seed_median) and seed_median > full / 2):
+        return seed, seed_median, False
+    noise = float(np.nanmedian(sigma_noise)) if np.isfinite(sigma_noise).any() else 0.0
+    top = _measured_reach(few, CORE_SHARE * full)
+    if not (math.isfinite(top) and top < min(seed_median, CORE_SHARE * full - 3.0 * noise)):
+        return seed, seed_median, False
+    reach = max(top, b)
+    return np.minimum(seed, np.float32(reach)), reach, True
+
+
 def _median_se(v: np.ndarray) -> tuple[float, float]:
     """Median of `v` and its standard error (1.2533 s / sqrt(n), s the robust spread), on an
     even subsample of at most :data:`MAX_FREE_VALUES` values."""
@@ -451,6 +531,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     seed = (b + z * sig).astype(np.float32)
     finite = np.isfinite(seed) & np.isfinite(samples[0]) if samples else np.isfinite(seed)
     seed_median = float(np.median(seed[finite])) if finite.any() else math.nan
+    seed, seed_median, measured = _bounded_reach(few, sigma_noise, seed, seed_median, b,
+                                                 contrast)
     sigma_free = float(np.median(sig[finite])) if finite.any() else 0.0
     notes: list[str] = []
     reach = seed_median if math.isfinite(seed_median) else 0.0
@@ -509,7 +591,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                      n_full, threshold, separation, notes, int(min_cluster_px), bool(static),
                      float(zone_sigma), float(zone_corr_px),
                      *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
-                     weak_plateau=weak)
+                     weak_plateau=weak, reach_measured=measured)
 
 
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
@@ -557,7 +639,7 @@ class FrameArea:
 
 
 def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved: np.ndarray,
-                   model: AreaModel, finite: np.ndarray) -> np.ndarray:
+                   model: AreaModel, finite: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
     """The seed pixels that are contact: those within :data:`ZONE_PX` of an anchor (resolved
     contact, or a region above the half-contact threshold of ``min_cluster_px`` pixels at
     least that the image border cuts, too thin to be resolved only because the view ends
@@ -566,14 +648,21 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     free surface's fluctuation summed over them (correlated over ``corr_px``) at the seed
     level's false-alarm rate, unless the scene is static and shows resolved contact (its
     free surface keeps the dust dark, which resolved contact tells apart). The rest (noise,
-    a texture or dust spot) is free surface."""
+    a texture or dust spot) is free surface.
+
+    Second: in that static scene, the clusters beyond the anchors' zone that pass the
+    significance test (junctions of the same contact farther out, or the ice's dust: the
+    error bar's high end holds them); None elsewhere."""
     if not seeds.any():
-        return seeds
+        return seeds, None
     anchors = resolved | _at_border(_clusters(half, model.min_cluster_px))
     near = (cv2.dilate(anchors.view(np.uint8), _ZONE).astype(bool) & seeds
             if anchors.any() else np.zeros(seeds.shape, bool))
-    if model.static and model.contact_source != "assumed":  # dust is dark here: resolved
-        return near                                      # contact shows where contact is
+    static_shown = _shows_contact(model)
+    if static_shown:  # dust is dark here: resolved contact shows where contact is
+        seeds = seeds & ~near
+        if not seeds.any():
+            return near, None
     n, lab = cv2.connectedComponents(seeds.view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
     inside = seeds & finite
     excess = np.bincount(lab[inside], weights=d[inside] - model.offset, minlength=n)
@@ -585,7 +674,26 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     z = (model.seed_median - model.offset) / max(model.sigma_free, 1e-9)
     keep = (size >= model.min_cluster_px) & (excess > z * noise)
     keep[0] = False
-    return keep[lab] | near
+    if static_shown:
+        return near, keep[lab]
+    return keep[lab] | near, None
+
+
+def _shows_contact(model: AreaModel) -> bool:
+    """A static scene whose sampled frames show resolved contact (its full darkness not
+    assumed): its free surface keeps the ice's dust, bubbles and scratches dark, and the
+    resolved contact shows where contact is."""
+    return model.static and model.contact_source != "assumed"
+
+
+def _beyond_zone(u: np.ndarray, maybe: np.ndarray, zone: np.ndarray, finite: np.ndarray,
+                 b: float) -> float:
+    """Excess darkness (over ``b``) of the envelope of the seed clusters `maybe` (their
+    seeds, neighbours and gaps narrower than the edge margin, as the zone's) outside
+    `zone`; at least 0."""
+    env = (cv2.morphologyEx(cv2.dilate(maybe.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
+                            _EDGE).view(np.bool_) & ~zone & finite)
+    return max(float(np.sum(u[env] - b, dtype=np.float64)), 0.0) if env.any() else 0.0
 
 
 def _at_border(mask: np.ndarray) -> np.ndarray:
@@ -661,6 +769,31 @@ def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float,
     return total, math.hypot(sd_sum, sd_b) / c
 
 
+#: Disc (px) of the grey opening that gives a static scene's local free surface around
+#: unresolved contact (:func:`_over_local_free`): as wide as the zone unresolved contact
+#: is sought in around resolved contact (``2 ZONE_PX + 1``).
+LOCAL_FREE_PX = 2 * ZONE_PX + 1
+_LOCAL_FREE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (LOCAL_FREE_PX,) * 2)
+
+
+def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
+    """A static scene's darkness over its local free surface, plus ``b``: ``d`` less its
+    grey opening by a disc of :data:`LOCAL_FREE_PX` (at least ``b``; unmeasured pixels
+    taken at ``b``), ``b`` added back.
+
+    A static scene's free-surface estimate is continued over the contact from around it
+    (:func:`tir_contact.reference.free_surface`) and cannot follow the ice's bubbles and
+    scratches there: they stay in the darkness as plateaus wider than the disc, which the
+    opening keeps, while junctions below the pixel (spots of 1-3 px, and their clusters
+    narrower than the disc) rise above it. Texture narrower than the disc (a bubble's rim,
+    a scratch) still rises above it. Resolved contact is read from ``d`` itself.
+    """
+    bf = np.float32(b)
+    filled = np.where(finite, d, bf).astype(np.float32)
+    local = np.maximum(cv2.morphologyEx(filled, cv2.MORPH_OPEN, _LOCAL_FREE,
+                                        borderType=cv2.BORDER_REPLICATE), bf)
+    return np.where(finite, d - local + bf, np.float32(np.nan)).astype(np.float32)
+
 def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None, *,
                half: np.ndarray | None = None, seeds: np.ndarray | None = None,
                finite: np.ndarray | None = None) -> FrameArea:
@@ -703,17 +836,21 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
                                for x in (half, seeds, finite))
         seed = seed[box]
     c, b = model.contact_darkness, model.offset
-    with np.errstate(invalid="ignore"):
-        seeds = d >= seed if seeds is None else seeds.copy()
-        if half is None:
-            half = d >= model.threshold
     if finite is None:
         finite = np.isfinite(d)
+    # the darkness unresolved contact is read from: a static scene that shows resolved
+    # contact, over its local free surface (its bubbles and scratches stay dark there)
+    u = _over_local_free(d, finite, b) if _shows_contact(model) else d
+    with np.errstate(invalid="ignore"):
+        seeds = u >= seed if seeds is None else seeds.copy()
+        if half is None:
+            half = d >= model.threshold
     resolved = _resolved(half)
     edge = cv2.dilate(resolved.view(np.uint8), _EDGE).view(np.bool_)
     seeds &= ~edge  # seeds on a resolved region's edge are its own
+    maybe = None
     if seeds.any():
-        seeds = _kept_clusters(d, seeds, half, resolved, model, finite)
+        seeds, maybe = _kept_clusters(u, seeds, half, resolved, model, finite)
         # the unresolved contact's envelope: its seeds, their neighbours and the gaps
         # between them narrower than the edge margin (every pixel in it unmixed)
         near = cv2.morphologyEx(cv2.dilate(seeds.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
@@ -732,14 +869,14 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     else:  # faint contact beyond the zone: the excess darkness of a ring around it
         sum_un = zone_un
         ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & ~zone & finite
-        missed = max(float(np.sum(d[ring] - b, dtype=np.float64)), 0.0) / c
+        missed = max(float(np.sum(u[ring] - b, dtype=np.float64)), 0.0) / c
     # the resolved part over the plausible decisions: counted at any threshold between the
     # free surface's reach (at least c / 4) and 3 c / 4, or unmixed
     t_lo = max(model.seed_median, c / 4) if math.isfinite(model.seed_median) else c / 4
     t_lo = min(t_lo, model.threshold)
     t_hi = max(0.75 * c, model.threshold)
     part_res, res_hi = _resolved_area(d, resolved, zone_res, b, c, t_lo)
-    excess_un = float(np.sum(d[sum_un] - b, dtype=np.float64))
+    excess_un = float(np.sum(u[sum_un] - b, dtype=np.float64))
     n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(sum_un))
     with np.errstate(invalid="ignore"):
         res_lo = int(np.count_nonzero(resolved & (d >= t_hi)))
@@ -770,6 +907,10 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         low = min(low, alt - BAND_SIGMAS * sd * c / full)  # sd is in area at c
     high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
+    if maybe is not None and maybe.any():
+        # a static scene: significant seed clusters beyond the zone may be junctions of the
+        # same contact as well as the ice's dust (module notes)
+        high += _beyond_zone(u, maybe, zone | edge, finite, b) / max(model.contact_low, 1e-6)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
         high += _past_rim(zone, model, box)
     if whole:  # the whole frame: its darkness budget (module notes)
