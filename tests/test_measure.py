@@ -283,6 +283,24 @@ def test_gaussian_texture_keeps_the_extrapolated_reach():
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
+def test_noise_that_reaches_the_core_level_keeps_the_extrapolated_reach(seed):
+    """Dark footage: noise of sigma 0.18 around a resolved disc (0.95). The Gaussian reach
+    (0.01 offset + 4.6 sigma: 0.84) passes half of full contact and is right: noise is
+    Gaussian. The darkest pixel away from the cores reads 0.72, just under the core level
+    (0.7275), because the noise's own pixels past that level are taken for cores and their
+    surroundings left out; within three noise sigmas of the core level the reading is not
+    taken, and the extrapolation stays."""
+    rng = np.random.default_rng(seed)
+    shape = (160, 200)
+    cov = _coverage(shape, [(100.0, 80.0, 20.0)])
+    blurred = 0.95 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 1.0)
+    d = [blurred + _noise(rng, 0.18, shape) for _ in range(3)]
+    m = area_model(d, _sigma_map(0.18, shape))
+    assert not m.reach_measured
+    assert m.seed_median == pytest.approx(4.6 * 0.18, abs=0.03)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
 def test_static_scene_reads_junctions_over_a_bubble_against_its_local_free_surface(seed):
     """A static scene whose free surface kept a bubble (a plateau of 0.2, 60 px across)
     under a resolved contact (a disc of 6 px, 0.95, blur 1 px) and its junctions (40
