@@ -22,7 +22,8 @@ above it is :data:`FALSE_SEEDS_PER_FRAME`). Where that extrapolation passes half
 contact, the texture may be bounded rather than Gaussian (bubbles and dust in the ice, a
 static estimate's large-scale error), and the reach is read off the free pixels instead:
 the darkest pixel away from resolved contact (:func:`_measured_reach`), when that lies
-lower. **Contact** is either *resolved* (patches wider
+lower and more than three noise sigmas below the core level it is read against
+(:func:`_bounded_reach`). **Contact** is either *resolved* (patches wider
 than the blur: their pixels reach ``c`` and a blurred edge is half covered at ``c / 2``) or
 *unresolved* (junctions below a pixel: a pixel reads ``c * phi``). A resolved region is a
 connected region at the half-contact threshold with an interior (a pixel whose 3 x 3
