@@ -342,6 +342,26 @@ def test_static_scene_bar_holds_junctions_beyond_the_zone(seed):
     assert a.area_px == pytest.approx(disc, rel=0.02)
     assert a.low_px <= true <= a.high_px
 
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_static_junctions_with_their_contrast_given_are_counted(seed):
+    """A static scene of junctions only (80 discs of 0.4-0.7 px, none resolved) with the
+    darkness of full contact given (--contrast 0.95): a given contrast does not show where
+    contact is, so the significant clusters are contact. The area was 0 (every seed taken
+    for dust beside resolved contact that is not there); now the junctions' area to 3 % (the
+    blur tail beyond the clusters' envelope), inside the bar."""
+    rng = np.random.default_rng(seed)
+    spots = [(100 + rng.uniform(-20, 20), 80 + rng.uniform(-20, 20), rng.uniform(0.4, 0.7))
+             for _ in range(80)]
+    cov = _coverage(SHAPE, spots)
+    d = 0.95 * cv2.GaussianBlur(cov.astype(np.float32), (0, 0), 1.0) + _noise(rng, 0.01)
+    m = area_model([d], _sigma_map(0.01), static=True, contrast=0.95)
+    assert m.contact_source == "given" and m.n_full_px < MIN_FULL_PX
+    a = frame_area(d, m)
+    true = float(cov.sum())
+    assert a.area_px == pytest.approx(true, rel=0.03)
+    assert a.low_px <= true <= a.high_px
+
 def test_box_limits_the_search():
     rng = np.random.default_rng(11)
     d = _noise(rng, 0.02)

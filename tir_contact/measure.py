@@ -23,7 +23,8 @@ contact, the texture may be bounded rather than Gaussian (bubbles and dust in th
 static estimate's large-scale error), and the reach is read off the free pixels instead:
 the darkest pixel away from resolved contact (:func:`_measured_reach`), when that lies
 lower and more than three noise sigmas below the core level it is read against
-(:func:`_bounded_reach`). **Contact** is either *resolved* (patches wider
+(:func:`_bounded_reach`; half of full contact is the given contrast or the assumed
+darkness here, ``c`` being measured after). **Contact** is either *resolved* (patches wider
 than the blur: their pixels reach ``c`` and a blurred edge is half covered at ``c / 2``) or
 *unresolved* (junctions below a pixel: a pixel reads ``c * phi``). A resolved region is a
 connected region at the half-contact threshold with an interior (a pixel whose 3 x 3
@@ -388,8 +389,8 @@ def _measured_reach(samples: list[np.ndarray], core_level: float) -> float:
     """The darkness the free surface reaches, measured: the largest darkness over the
     sampled frames of the pixels farther than :data:`LOCAL_PX` from any pixel at
     `core_level` (resolved contact and its blurred edge, which the lens's blur of up to
-    2 px sigma keeps within 3 sigma of the interior); NaN where no sample holds
-    :data:`MIN_FULL_PX` such core pixels together or no pixel is left.
+    2 px sigma keeps within 3 sigma of the interior); NaN where the samples hold fewer
+    than :data:`MIN_FULL_PX` such core pixels in all, or no pixel is left.
 
     The Gaussian reach (:func:`area_model`) extrapolates the spread of the free surface's
     bright half to the false-seed rate; a texture that is not Gaussian, bounded instead
@@ -399,7 +400,10 @@ def _measured_reach(samples: list[np.ndarray], core_level: float) -> float:
     free pixel passes about once in those frames; the false-seed rate asks for a few
     times rarer, so the reading is lowered by no more than the last pixels' noise).
     Unresolved contact away from the cores counts as free surface here, which only
-    raises the reading (the Gaussian reach stays the bound).
+    raises the reading (the Gaussian reach stays the bound). A Gaussian texture wider than
+    the noise passes the guard of :func:`_bounded_reach` too and reads a little below its
+    extrapolation (the largest of the sampled pixels against the false-seed rate's level:
+    a few times more false seeds).
 
     Examples
     --------
@@ -425,7 +429,8 @@ def _bounded_reach(few: list[np.ndarray], sigma_noise: np.ndarray, seed: np.ndar
                    seed_median: float, b: float, contrast: float | None
                    ) -> tuple[np.ndarray, float, bool]:
     """The per-pixel seed level, its median and whether it was measured: where the Gaussian
-    reach `seed_median` passes half of full contact (`contrast`, or the assumed darkness),
+    reach `seed_median` passes half of full contact (the given `contrast`, else the assumed
+    :data:`ASSUMED_FULL_DARKNESS`: a measured ``c`` comes later, from the seeds' level),
     the reach read off the free pixels (:func:`_measured_reach`) when it lies lower (a
     bounded texture ends far below the extrapolation) and not within three noise sigmas
     of the core level (there it may be the free surface cut at the level, its pixels past
@@ -681,10 +686,11 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
 
 
 def _shows_contact(model: AreaModel) -> bool:
-    """A static scene whose sampled frames show resolved contact (its full darkness not
-    assumed): its free surface keeps the ice's dust, bubbles and scratches dark, and the
-    resolved contact shows where contact is."""
-    return model.static and model.contact_source != "assumed"
+    """A static scene whose sampled frames show resolved contact (:data:`MIN_FULL_PX`
+    interior pixels at least; a given contrast does not make it so): its free surface
+    keeps the ice's dust, bubbles and scratches dark, and the resolved contact shows where
+    contact is."""
+    return model.static and model.n_full_px >= MIN_FULL_PX
 
 
 def _beyond_zone(u: np.ndarray, maybe: np.ndarray, zone: np.ndarray, finite: np.ndarray,
@@ -811,7 +817,10 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     half, seeds, finite : ndarray of bool, optional
         ``d >= model.threshold``, ``d >= model.seed`` and ``isfinite(d)``, when already
         known (the analysis tests the raw grey values,
-        :class:`tir_contact._darkness.ContactTest`), of `d`'s shape.
+        :class:`tir_contact._darkness.ContactTest`), of `d`'s shape. Given `seeds` are
+        used as they are; a static scene that shows resolved contact reads its own
+        against the local free surface (:func:`_over_local_free`) when they are not
+        given (the analysis gives them only for a fixed camera).
 
     Returns
     -------
