@@ -324,6 +324,25 @@ def test_static_scene_reads_junctions_over_a_bubble_against_its_local_free_surfa
     assert a.low_px <= true <= a.high_px
 
 
+
+@pytest.mark.parametrize("sigma", [0.01, 0.02, 0.05])
+def test_local_free_surface_of_a_noisy_plateau_is_its_mean(sigma):
+    """Over a bubble's plateau (0.2, 60 px across) with Gaussian noise, the darkness over
+    the local free surface is noise about ``b``: its mean within half a sigma (the opening
+    of the 5 x 5 mean lies on that mean's lower envelope, about 1.7 times its spread, a
+    fifth of the noise's: 0.34 sigma; the opening of the noisy darkness itself lay 2.2
+    sigma low and lifted every reading by that much), its spread about sigma."""
+    from tir_contact.measure import _over_local_free
+
+    rng = np.random.default_rng(7)
+    yy, xx = np.mgrid[:SHAPE[0], :SHAPE[1]]
+    inside = ((xx - 100) ** 2 + (yy - 80) ** 2) < 30 ** 2
+    d = (0.2 * inside).astype(np.float32) + _noise(rng, sigma)
+    u = _over_local_free(d, np.isfinite(d), 0.0)
+    core = ((xx - 100) ** 2 + (yy - 80) ** 2) < 20 ** 2  # away from the plateau's rim
+    assert abs(float(u[core].mean())) < 0.5 * sigma
+    assert float(u[core].std()) == pytest.approx(sigma, rel=0.2)
+
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_static_scene_bar_holds_junctions_beyond_the_zone(seed):
     """A static scene: a resolved contact (a disc of 6 px, 113 px) and a cluster of 70

@@ -59,8 +59,10 @@ The error bar (:func:`frame_area`): the resolved count over the plausible decisi
 unmixed area over ``c``'s range plus twice its noise: the free surface's fluctuation summed
 over the unmixed pixels (correlated over ``corr_px``) and the uncertainty of ``b``; in a
 static scene down to the frame's darkness budget and to the resolved contact alone (the
-seeds beside it may be the ice's dust) and up to the significant seed clusters beyond the
-zone (junctions of the same contact farther out); where ``c`` is a weak plateau
+seeds beside it may be the ice's dust) and up to the zone read against the video's free
+surface instead of the local one (a junction field denser than the opening's disc looks
+like a plateau to it) and to the significant seed clusters beyond the zone (junctions of
+the same contact farther out); where ``c`` is a weak plateau
 (:attr:`AreaModel.weak_plateau`), down to the zone's darkness as the share covered of each
 pixel; and up to the unlit pixels that contact in the lit zone's rim band may cover past the
 found edge.
@@ -703,6 +705,21 @@ def _beyond_zone(u: np.ndarray, maybe: np.ndarray, zone: np.ndarray, finite: np.
     return max(float(np.sum(u[env] - b, dtype=np.float64)), 0.0) if env.any() else 0.0
 
 
+
+def _static_high(d: np.ndarray, u: np.ndarray, sum_un: np.ndarray, excess_un: float,
+                 maybe: np.ndarray | None, inner: np.ndarray, finite: np.ndarray,
+                 b: float) -> float:
+    """What a static scene's error bar adds above the unmixed excess `excess_un` (read
+    over `sum_un` against the local free surface, `u`): the zone read against the video's
+    free surface instead, where that holds more (a junction field denser than the
+    opening's disc looks like a plateau to it), and the significant seed clusters `maybe`
+    beyond the zone (junctions of the same contact farther out, or the ice's dust; their
+    envelope outside `inner`, the zone and the resolved edges), read against it too."""
+    extra = max(float(np.sum(d[sum_un] - b, dtype=np.float64)) - excess_un, 0.0)
+    if maybe is not None and maybe.any():
+        extra += _beyond_zone(d, maybe, inner, finite, b)
+    return extra
+
 def _at_border(mask: np.ndarray) -> np.ndarray:
     """The 8-connected regions of `mask` that touch the image border."""
     if not mask.any():
@@ -784,9 +801,11 @@ _LOCAL_FREE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (LOCAL_FREE_PX,) * 2)
 
 
 def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
-    """A static scene's darkness over its local free surface, plus ``b``: ``d`` less its
-    grey opening by a disc of :data:`LOCAL_FREE_PX` (at least ``b``; unmeasured pixels
-    taken at ``b``), ``b`` added back.
+    """A static scene's darkness over its local free surface, plus ``b``: ``d`` less the
+    grey opening of its 5 x 5 mean by a disc of :data:`LOCAL_FREE_PX` (at least ``b``;
+    unmeasured pixels taken at ``b``), ``b`` added back (the opening of the noisy darkness
+    itself follows the noise's lower envelope, about two sigma low, and every reading
+    would gain that much).
 
     A static scene's free-surface estimate is continued over the contact from around it
     (:func:`tir_contact.reference.free_surface`) and cannot follow the ice's bubbles and
@@ -797,7 +816,11 @@ def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
     """
     bf = np.float32(b)
     filled = np.where(finite, d, bf).astype(np.float32)
-    local = np.maximum(cv2.morphologyEx(filled, cv2.MORPH_OPEN, _LOCAL_FREE,
+    # an opening of noisy darkness follows the noise's lower envelope (about 2 sigma
+    # below its mean over a plateau), which would lift every pixel's reading by that
+    # much: the opening is taken of the 5 x 5 mean (noise down to a fifth)
+    smooth = cv2.blur(filled, (5, 5), borderType=cv2.BORDER_REPLICATE)
+    local = np.maximum(cv2.morphologyEx(smooth, cv2.MORPH_OPEN, _LOCAL_FREE,
                                         borderType=cv2.BORDER_REPLICATE), bf)
     return np.where(finite, d - local + bf, np.float32(np.nan)).astype(np.float32)
 
@@ -915,12 +938,10 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         full = ASSUMED_FULL_RANGE[1]
         alt = (float(np.sum(d[zone_res] - b, dtype=np.float64)) + excess_un) / full
         low = min(low, alt - BAND_SIGMAS * sd * c / full)  # sd is in area at c
-    high = (max(part_res, res_hi) + excess_un / max(model.contact_low, 1e-6) + missed
+    high_un = excess_un + (_static_high(d, u, sum_un, excess_un, maybe, zone | edge, finite, b)
+                           if u is not d else 0.0)
+    high = (max(part_res, res_hi) + high_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
-    if maybe is not None and maybe.any():
-        # a static scene: significant seed clusters beyond the zone may be junctions of the
-        # same contact as well as the ice's dust (module notes)
-        high += _beyond_zone(u, maybe, zone | edge, finite, b) / max(model.contact_low, 1e-6)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
         high += _past_rim(zone, model, box)
     if whole:  # the whole frame: its darkness budget (module notes)
