@@ -427,7 +427,7 @@ def _measured_reach(samples: list[np.ndarray], core_level: float) -> float:
     return top if n_core >= MIN_FULL_PX and math.isfinite(top) else math.nan
 
 
-def _bounded_reach(few: list[np.ndarray], sigma_noise: np.ndarray, seed: np.ndarray,
+def _bounded_reach(few: list[np.ndarray], noise: float, seed: np.ndarray,
                    seed_median: float, b: float, contrast: float | None
                    ) -> tuple[np.ndarray, float, bool]:
     """The per-pixel seed level, its median and whether it was measured: where the Gaussian
@@ -436,11 +436,11 @@ def _bounded_reach(few: list[np.ndarray], sigma_noise: np.ndarray, seed: np.ndar
     the reach read off the free pixels (:func:`_measured_reach`) when it lies lower (a
     bounded texture ends far below the extrapolation) and not within three noise sigmas
     of the core level (there it may be the free surface cut at the level, its pixels past
-    it taken for cores); else `seed` and `seed_median` as they are."""
+    it taken for cores; `noise`: the camera's median darkness noise); else `seed` and
+    `seed_median` as they are."""
     full = float(contrast) if contrast is not None else ASSUMED_FULL_DARKNESS
     if not (math.isfinite(seed_median) and seed_median > full / 2):
         return seed, seed_median, False
-    noise = float(np.nanmedian(sigma_noise)) if np.isfinite(sigma_noise).any() else 0.0
     top = _measured_reach(few, CORE_SHARE * full)
     if not (math.isfinite(top) and top < min(seed_median, CORE_SHARE * full - 3.0 * noise)):
         return seed, seed_median, False
@@ -527,8 +527,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     n_lit = max(int(np.isfinite(samples[0]).sum()), 1) if samples else 1
     z = float(norm.isf(FALSE_SEEDS_PER_FRAME / n_lit))
     b, spread, texture, n_free, mean, sd_all = _free_statistics(few, sigma_noise)
-    first = b + z * math.hypot(
-        texture, float(np.nanmedian(sigma_noise)) if np.isfinite(sigma_noise).any() else 0.0)
+    noise = float(np.nanmedian(sigma_noise)) if np.isfinite(sigma_noise).any() else 0.0
+    first = b + z * math.hypot(texture, noise)
     if math.isfinite(first) and first < ASSUMED_FULL_DARKNESS / 2:
         # the mean and the spread of the whole free surface (dust and bubbles included,
         # which the second pass would cut away with faint contact) stay the first pass's
@@ -539,8 +539,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     seed = (b + z * sig).astype(np.float32)
     finite = np.isfinite(seed) & np.isfinite(samples[0]) if samples else np.isfinite(seed)
     seed_median = float(np.median(seed[finite])) if finite.any() else math.nan
-    seed, seed_median, measured = _bounded_reach(few, sigma_noise, seed, seed_median, b,
-                                                 contrast)
+    seed, seed_median, measured = _bounded_reach(few, noise, seed, seed_median, b, contrast)
     sigma_free = float(np.median(sig[finite])) if finite.any() else 0.0
     notes: list[str] = []
     reach = seed_median if math.isfinite(seed_median) else 0.0
@@ -695,30 +694,28 @@ def _shows_contact(model: AreaModel) -> bool:
     return model.static and model.n_full_px >= MIN_FULL_PX
 
 
-def _beyond_zone(u: np.ndarray, maybe: np.ndarray, zone: np.ndarray, finite: np.ndarray,
-                 b: float) -> float:
-    """Excess darkness (over ``b``) of the envelope of the seed clusters `maybe` (their
-    seeds, neighbours and gaps narrower than the edge margin, as the zone's) outside
-    `zone`; at least 0."""
-    env = (cv2.morphologyEx(cv2.dilate(maybe.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
-                            _EDGE).view(np.bool_) & ~zone & finite)
-    return max(float(np.sum(u[env] - b, dtype=np.float64)), 0.0) if env.any() else 0.0
+def _envelope(seeds: np.ndarray) -> np.ndarray:
+    """The envelope of seed pixels (bool): the seeds, their neighbours within the edge
+    margin and the gaps between them narrower than it (every pixel in it unmixed)."""
+    return cv2.morphologyEx(cv2.dilate(seeds.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
+                            _EDGE).view(np.bool_)
 
 
-
-def _static_high(d: np.ndarray, u: np.ndarray, sum_un: np.ndarray, excess_un: float,
+def _static_high(d: np.ndarray, sum_un: np.ndarray, excess_un: float,
                  maybe: np.ndarray | None, inner: np.ndarray, finite: np.ndarray,
                  b: float) -> float:
     """What a static scene's error bar adds above the unmixed excess `excess_un` (read
-    over `sum_un` against the local free surface, `u`): the zone read against the video's
+    over `sum_un` against the local free surface): the zone read against the video's
     free surface instead, where that holds more (a junction field denser than the
     opening's disc looks like a plateau to it), and the significant seed clusters `maybe`
     beyond the zone (junctions of the same contact farther out, or the ice's dust; their
     envelope outside `inner`, the zone and the resolved edges), read against it too."""
     extra = max(float(np.sum(d[sum_un] - b, dtype=np.float64)) - excess_un, 0.0)
     if maybe is not None and maybe.any():
-        extra += _beyond_zone(d, maybe, inner, finite, b)
+        env = _envelope(maybe) & ~inner & finite
+        extra += max(float(np.sum(d[env] - b, dtype=np.float64)), 0.0)
     return extra
+
 
 def _at_border(mask: np.ndarray) -> np.ndarray:
     """The 8-connected regions of `mask` that touch the image border."""
@@ -815,14 +812,15 @@ def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
     a scratch) still rises above it. Resolved contact is read from ``d`` itself.
     """
     bf = np.float32(b)
-    filled = np.where(finite, d, bf).astype(np.float32)
+    filled = np.where(finite, d, bf).astype(np.float32, copy=False)
     # an opening of noisy darkness follows the noise's lower envelope (about 2 sigma
     # below its mean over a plateau), which would lift every pixel's reading by that
     # much: the opening is taken of the 5 x 5 mean (noise down to a fifth)
     smooth = cv2.blur(filled, (5, 5), borderType=cv2.BORDER_REPLICATE)
     local = np.maximum(cv2.morphologyEx(smooth, cv2.MORPH_OPEN, _LOCAL_FREE,
                                         borderType=cv2.BORDER_REPLICATE), bf)
-    return np.where(finite, d - local + bf, np.float32(np.nan)).astype(np.float32)
+    return np.where(finite, d - local + bf, np.float32(np.nan)).astype(np.float32,
+                                                                         copy=False)
 
 def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None, *,
                half: np.ndarray | None = None, seeds: np.ndarray | None = None,
@@ -873,7 +871,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         finite = np.isfinite(d)
     # the darkness unresolved contact is read from: a static scene that shows resolved
     # contact, over its local free surface (its bubbles and scratches stay dark there)
-    u = _over_local_free(d, finite, b) if _shows_contact(model) else d
+    static_shown = _shows_contact(model)
+    u = _over_local_free(d, finite, b) if static_shown else d
     with np.errstate(invalid="ignore"):
         seeds = u >= seed if seeds is None else seeds.copy()
         if half is None:
@@ -884,10 +883,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     maybe = None
     if seeds.any():
         seeds, maybe = _kept_clusters(u, seeds, half, resolved, model, finite)
-        # the unresolved contact's envelope: its seeds, their neighbours and the gaps
-        # between them narrower than the edge margin (every pixel in it unmixed)
-        near = cv2.morphologyEx(cv2.dilate(seeds.view(np.uint8), _EDGE), cv2.MORPH_CLOSE,
-                                _EDGE).view(np.bool_)
+        near = _envelope(seeds)  # the unresolved contact's envelope
     else:
         near = seeds
     zone_res = edge & finite
@@ -938,8 +934,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         full = ASSUMED_FULL_RANGE[1]
         alt = (float(np.sum(d[zone_res] - b, dtype=np.float64)) + excess_un) / full
         low = min(low, alt - BAND_SIGMAS * sd * c / full)  # sd is in area at c
-    high_un = excess_un + (_static_high(d, u, sum_un, excess_un, maybe, zone | edge, finite, b)
-                           if u is not d else 0.0)
+    high_un = excess_un + (_static_high(d, sum_un, excess_un, maybe, zone | edge, finite, b)
+                           if static_shown else 0.0)
     high = (max(part_res, res_hi) + high_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
