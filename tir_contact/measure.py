@@ -128,6 +128,7 @@ _CROSS3 = np.ones((3, 3), np.uint8)
 _EDGE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * EDGE_PX + 1,) * 2)
 ZONE_PX = 8
 _ZONE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ZONE_PX + 1,) * 2)
+_LOCAL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * LOCAL_PX + 1,) * 2)
 
 
 @dataclass(frozen=True)
@@ -415,13 +416,12 @@ def _measured_reach(samples: list[np.ndarray], core_level: float) -> float:
     >>> round(_measured_reach([d], 0.75 * 0.97), 2)
     0.4
     """
-    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * LOCAL_PX + 1,) * 2)
     top, n_core = -math.inf, 0
     for d in samples:
         with np.errstate(invalid="ignore"):
             core = (d >= core_level).astype(np.uint8)
         n_core += int(np.count_nonzero(core))
-        away = ~cv2.dilate(core, disc).view(np.bool_) & np.isfinite(d)
+        away = ~cv2.dilate(core, _LOCAL).view(np.bool_) & np.isfinite(d)
         if away.any():
             top = max(top, float(d[away].max()))
     return top if n_core >= MIN_FULL_PX and math.isfinite(top) else math.nan
@@ -792,9 +792,9 @@ def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float,
 
 #: Disc (px) of the grey opening that gives a static scene's local free surface around
 #: unresolved contact (:func:`_over_local_free`): as wide as the zone unresolved contact
-#: is sought in around resolved contact (``2 ZONE_PX + 1``).
+#: is sought in around resolved contact (``2 ZONE_PX + 1``): the opening uses that zone's
+#: disc, ``_ZONE``.
 LOCAL_FREE_PX = 2 * ZONE_PX + 1
-_LOCAL_FREE = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (LOCAL_FREE_PX,) * 2)
 
 
 def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
@@ -817,7 +817,7 @@ def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
     # below its mean over a plateau), which would lift every pixel's reading by that
     # much: the opening is taken of the 5 x 5 mean (noise down to a fifth)
     smooth = cv2.blur(filled, (5, 5), borderType=cv2.BORDER_REPLICATE)
-    local = np.maximum(cv2.morphologyEx(smooth, cv2.MORPH_OPEN, _LOCAL_FREE,
+    local = np.maximum(cv2.morphologyEx(smooth, cv2.MORPH_OPEN, _ZONE,
                                         borderType=cv2.BORDER_REPLICATE), bf)
     return np.where(finite, d - local + bf, np.float32(np.nan)).astype(np.float32,
                                                                          copy=False)
