@@ -105,6 +105,17 @@ MIN_FULL_PX = 9
 #: median (noise and a 0.3-0.4 pressure grading give 0.3-0.5); contact covering part of
 #: each pixel spreads down to the free surface (the physical block at 0.1 mm/px: about 3).
 MAX_PLATEAU_SPREAD = 1.0
+#: Noise sigmas of a free pixel by which such a plateau's lower decile must clear the
+#: level it was cut at (the free surface's reach): a plateau at ``c`` with the noise's
+#: spread has its lower decile 1.28 sigma below ``c``, and with ``c`` 2.56 sigma above the
+#: cut it loses under 0.5 % of its pixels to the cut. Pixels that pass the cut only by
+#: their noise or their share of junctions (a field of junctions below the pixel whose
+#: darkness tops out near the reach) pile up just above it instead: their lower decile is
+#: the cut, and the spread test alone reads the cut's own narrow slice as a plateau (a
+#: physical block at 6.5 % real contact, 8-bit JPEG at a white level of 0.11: nine
+#: interior pixels, lower decile 0.3 sigma above the reach, taken for full contact
+#: through 83 % stray light and read 280 % high).
+PLATEAU_CLEARANCE_SIGMAS = float(norm.ppf(0.9))
 #: Expected free-surface pixels per frame above the seed threshold.
 FALSE_SEEDS_PER_FRAME = 0.05
 #: Sampled frames the free surface's statistics are taken from, at most.
@@ -184,7 +195,8 @@ class AreaModel:
         The free surface's reach was read off its pixels (:func:`_measured_reach`), the
         Gaussian extrapolation passing half of full contact; False: the extrapolation.
     weak_plateau : bool
-        ``c`` was measured on a plateau of the regions above the free surface's reach,
+        ``c`` was measured on a plateau of the regions above the free surface's reach
+        (clearing it: :data:`PLATEAU_CLEARANCE_SIGMAS`),
         because fewer than :data:`MIN_FULL_PX` interior pixels reach half the assumed
         darkness of full contact (:func:`area_model`): full contact seen through stray
         light, or contact covering the same share of every pixel (many junctions below a
@@ -552,13 +564,15 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         if values.size < MIN_FULL_PX and reach < ASSUMED_FULL_DARKNESS / 2 and not static:
             # weaker contact: resolved regions above the free surface's reach whose
             # darkness is a plateau (full contact seen with stray light), not a spread
-            # reaching down to the free surface (partial contact below the resolution);
+            # reaching down to the free surface (partial contact below the resolution)
+            # nor a slice just past the reach (PLATEAU_CLEARANCE_SIGMAS);
             # not in a static scene, whose free surface keeps the ice's dust, bubbles and
             # scratches dark (they take up to a third of the light, as a plateau too)
             low = _interiors(samples, float(np.nextafter(np.float32(reach), np.float32(1))))
             if low.size >= MIN_FULL_PX:
                 q10, q50, q90 = np.percentile(low, [10.0, 50.0, 90.0])
-                if q50 > 0 and (q90 - q10) / q50 <= MAX_PLATEAU_SPREAD:
+                if (q50 > 0 and (q90 - q10) / q50 <= MAX_PLATEAU_SPREAD
+                        and q10 - reach >= PLATEAU_CLEARANCE_SIGMAS * sigma_free):
                     values, weak = low, True
         n_full = int(values.size)
         if n_full >= MIN_FULL_PX:
