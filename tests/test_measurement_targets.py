@@ -90,6 +90,27 @@ def test_physical_truth_inside_the_error_bar_in_90_percent_of_frames(physical_su
     assert _all(physical_summary, "in_band_pct") >= MEASUREMENT_TARGETS["in_band_pct"]
 
 
+@needs_tamaas
+def test_junction_field_in_the_dim_rim_of_a_dark_jpeg_is_measured():
+    """A physical block (G7, 6.5 % real contact: a field of junctions below the pixel, none
+    resolved) in an 8-bit JPEG at a white level of 0.11 whose lit disc has a wide dim rim
+    (held-out draw 11 of seed 7). Before the plateau clearance rule it read 280 % high (nine
+    interiors just past the free surface's reach taken for full contact behind stray
+    light); with it, but the pixels cut as too noisy at the first contrast estimate (18 %
+    of the frame, up to 63 % of the contact while the block enters), 19.7 % low with the
+    truth in its bar in 28 of 56 frames; measured at the model's own decision, 4.4 % high
+    with the truth in the bar in 45 of 56. Tolerances: 8 %, the issue's p95; in the bar 70 %
+    of the frames (the misses are frames read 5-10 % high, their bar's low end a few
+    percent above the truth)."""
+    from synthetic.domain import sample_physical_specs
+
+    spec, case = sample_physical_specs(12, seed=7)[11]
+    assert case == "tir physical block" and spec.camera.bit_depth == 8
+    row = validate_clip(spec, case, 11)
+    assert abs(row["area_err_pct"]) <= 8.0, row
+    assert row["frames_in_band"] >= 0.7 * row["frames_scored"], row
+
+
 @pytest.fixture(scope="module")
 def series():
     return load_series(n_frames=3)
