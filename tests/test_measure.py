@@ -121,16 +121,22 @@ def test_full_darkness_of_small_blurred_contacts_is_their_plateau():
 
 def test_full_darkness_of_a_wide_graded_contact_is_its_first_interior():
     """A 60 x 100 px contact graded from 0.80 to 0.85 across (a pressure grading): its
-    median rises by under 1 % a pixel of depth, so the plateau is the first interior's
-    median, 0.825."""
-    from tir_contact.measure import _interiors
+    median rises by under 1 % a pixel of depth, so the plateau is the first interior
+    (median 0.825); full contact's level is read from its upper part: the upper decile of
+    the grading (spread 0.05 / sqrt 12) with the noise (0.02), 0.825 + 1.28 x 0.0247,
+    less 1.28 noise sigmas: 0.831, to 0.003 (the decile of 5700 pixels)."""
+    from tir_contact.measure import _interiors, _plateau
 
     rng = np.random.default_rng(3)
     d = _noise(rng, 0.02)
     d[40:100, 50:150] += np.linspace(0.80, 0.85, 100, dtype=np.float32)[None, :]
     m = area_model([d], _sigma_map(0.02))
-    assert m.contact_darkness == float(np.median(_interiors([d], 0.485)))
-    assert m.contact_darkness == pytest.approx(0.825, abs=0.005)
+    first = _interiors([d], 0.485)
+    assert np.array_equal(_plateau([d], 0.485), first)
+    assert float(np.median(first)) == pytest.approx(0.825, abs=0.005)
+    grading = 0.05 / math.sqrt(12.0)
+    expected = 0.825 + 1.2816 * (math.hypot(grading, 0.02) - 0.02)
+    assert m.contact_darkness == pytest.approx(expected, abs=0.003)
 
 
 def test_contacts_below_a_pixel_are_measured_by_their_darkness():
@@ -152,6 +158,24 @@ def test_contacts_below_a_pixel_are_measured_by_their_darkness():
     assert a.low_px <= true <= a.high_px
     counted = int((d >= m.threshold).sum())
     assert abs(counted / true - 1) > 0.1  # what a pixel count says: 13 % off
+
+
+def test_full_darkness_is_a_wholly_covered_pixel_not_the_median_of_partial_clusters():
+    """Rough contact: four resolved clusters of junctions (24 x 24 px) whose pixels are
+    wholly covered with probability 0.4 and else covered 60-100 % (darkness 0.97 times the
+    coverage, noise 0.01): their interiors' median is 0.91, full contact 0.97, and every
+    area unmixed against the median would read 6 % high. Full contact is read to 0.015 (the
+    decile of about 1600 interior pixels, and the noise correction taken at the noise's own
+    sigma)."""
+    rng = np.random.default_rng(21)
+    d = _noise(rng, 0.01)
+    for r0, c0 in ((20, 20), (20, 120), (100, 20), (100, 120)):
+        cover = np.where(rng.random((24, 24)) < 0.4, 1.0, rng.uniform(0.6, 1.0, (24, 24)))
+        d[r0:r0 + 24, c0:c0 + 24] += (0.97 * cover).astype(np.float32)
+    m = area_model([d], _sigma_map(0.01))
+    assert m.contact_source == "measured"
+    assert m.contact_darkness == pytest.approx(0.97, abs=0.015)
+    assert m.contact_low < 0.91 < m.contact_high  # the median stays in the range
 
 
 def test_weak_flat_contact_is_full_contact_and_a_partial_spread_is_not():

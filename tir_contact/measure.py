@@ -46,9 +46,11 @@ the box is in the error bar, a drift of the light from frame to frame is not: it
 darkness times the box's pixels). A physical block's faces at 2-27 % real contact: 5 % of
 their optical contact lay below the seeds' zone.
 
-``c`` is measured as the median darkness of the resolved interiors in the sampled frames
-(:data:`MIN_FULL_PX` pixels at least; taken deeper inside while it still rises, where the
-blur has left small contacts no pixel at full darkness: :func:`_plateau`), or given by
+``c`` is measured on the resolved interiors in the sampled frames (:data:`MIN_FULL_PX`
+pixels at least; taken deeper inside while their median still rises, where the blur has
+left small contacts no pixel at full darkness: :func:`_plateau`) as the level a wholly
+covered pixel reads (their upper decile less its noise, at least their median: rough
+contact's interiors are partly covered, :func:`_full_level`), or given by
 the user, or, when the video shows no resolved contact, assumed:
 :data:`ASSUMED_FULL_DARKNESS`, the frustrated-TIR contrast of rubber on ice or glass (a
 contact reflects 2-4 % of the light; Fresnel), within :data:`ASSUMED_FULL_RANGE` (stray
@@ -460,6 +462,46 @@ def _bounded_reach(few: list[np.ndarray], noise: float, seed: np.ndarray,
     return np.minimum(seed, np.float32(reach)), reach, True
 
 
+#: Quantile of the resolved interiors' darkness from which full contact's level is read
+#: (:func:`_full_level`).
+FULL_QUANTILE = 0.9
+
+
+def _full_level(values: np.ndarray, noise: float, *, bounded: bool = True
+                ) -> tuple[float, float, float]:
+    """Full contact's darkness ``c`` and its plausible range from the darkness of the
+    resolved interiors `values` (:func:`_plateau`).
+
+    A resolved interior holds pixels wholly covered by rubber and, in rough contact, pixels
+    covered in part: a cluster of junctions a few pixels wide is resolved as a region, and
+    its pixels read their coverage (a physical block at 27-31 % real contact in 0.1 mm
+    pixels: interiors from 0.64 to 1.0, median 0.85, full contact 0.98), so their median
+    reads the mix, not full contact, and every area unmixed against it is read that much
+    too high (18 %). A wholly covered pixel reads full contact's level plus its noise: the
+    interiors' :data:`FULL_QUANTILE` quantile less as many sigmas of the camera's darkness
+    noise `noise` (at the free surface's light, which bounds it at contact's lower light)
+    is that level where enough of them are wholly covered. A plateau with noise alone reads
+    its own level (its 90th percentile lies 1.28 sigma above it); one graded by pressure,
+    its upper part. Never below the median. The range: the 10th and 90th percentiles.
+    Where `bounded` is False (bright contact, whose darkness grows without a full level;
+    a weak plateau, read as it is), the median.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> cover = rng.uniform(0.6, 1.0, 4000)               # junction clusters, in part
+    >>> v = (0.97 * np.where(cover > 0.85, 1.0, cover)
+    ...      + rng.normal(0, 0.01, 4000)).astype(np.float32)
+    >>> round(float(np.median(v)), 2), round(_full_level(v, 0.01)[0], 2)
+    (0.77, 0.96)
+    """
+    c = float(np.median(values))
+    c_lo, c_hi = (float(v) for v in np.percentile(values, [10.0, 100 * FULL_QUANTILE]))
+    if bounded:
+        c = max(c, c_hi - float(norm.ppf(FULL_QUANTILE)) * noise)
+    return c, c_lo, c_hi
+
+
 def _median_se(v: np.ndarray) -> tuple[float, float]:
     """Median of `v` and its standard error (1.2533 s / sqrt(n), s the robust spread), on an
     even subsample of at most :data:`MAX_FREE_VALUES` values."""
@@ -486,7 +528,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                contrast: float | None = None, min_cluster_px: int = 4,
                static: bool = False, zone_sigma: float = 0.0,
                zone_corr_px: float = 1.0,
-               rim: tuple[np.ndarray, np.ndarray, int] | None = None) -> AreaModel:
+               rim: tuple[np.ndarray, np.ndarray, int] | None = None,
+               bright: bool = False) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -517,6 +560,9 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         rim's half-light line, placed on the image to within the band: contact in the
         band may go on that far beyond it, and the error bar's high end holds it
         (:func:`frame_area`).
+    bright : bool
+        Bright contact (its darkness negative, growing without a full level): ``c`` is the
+        median of the interiors (:func:`_full_level`).
 
     Returns
     -------
@@ -576,8 +622,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                     values, weak = low, True
         n_full = int(values.size)
         if n_full >= MIN_FULL_PX:
-            c = float(np.median(values))
-            c_lo, c_hi = (float(v) for v in np.percentile(values, [10.0, 90.0]))
+            c, c_lo, c_hi = _full_level(values, noise, bounded=not (weak or bright))
             source = "measured"
             if weak:
                 notes.append(

@@ -370,7 +370,8 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     return area_model(darkness, sigma, contrast=options.contrast,
                       min_cluster_px=options.min_area_px,
                       static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
-                      zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit))
+                      zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
+                      bright=contact_is == "bright")
 
 
 def _remeasured(samples: list[np.ndarray], lit: TirReference, tref: TirReference,
