@@ -124,7 +124,10 @@ def test_full_darkness_of_a_wide_graded_contact_is_its_first_interior():
     median rises by under 1 % a pixel of depth, so the plateau is the first interior
     (median 0.825); full contact's level is read from its upper part: the upper decile of
     the grading (spread 0.05 / sqrt 12) with the noise (0.02), 0.825 + 1.28 x 0.0247,
-    less 1.28 noise sigmas: 0.831, to 0.003 (the decile of 5700 pixels)."""
+    less 1.28 noise sigmas: 0.831, to 0.003 (the decile of 5700 pixels; the Gaussian
+    approximation of the sum is off by under 0.001). A regression check of the rule's
+    arithmetic rather than an independent truth: the median, 0.825, lies 2 tolerances
+    below."""
     from tir_contact.measure import _interiors, _plateau
 
     rng = np.random.default_rng(3)
@@ -165,7 +168,7 @@ def test_full_darkness_is_a_wholly_covered_pixel_not_the_median_of_partial_clust
     wholly covered with probability 0.4 and else covered 60-100 % (darkness 0.97 times the
     coverage, noise 0.01): their interiors' median is 0.91, full contact 0.97, and every
     area unmixed against the median would read 6 % high. Full contact is read to 0.015 (the
-    decile of about 1600 interior pixels, and the noise correction taken at the noise's own
+    decile of about 1900 interior pixels, and the noise correction taken at the noise's own
     sigma)."""
     rng = np.random.default_rng(21)
     d = _noise(rng, 0.01)
@@ -217,10 +220,10 @@ def test_a_field_that_tops_out_at_the_free_surfaces_reach_is_not_a_plateau():
     (uniform from 1.2 sigma below it to 1.8 sigma above; noise 0.025, reach 4.7 sigma):
     the 20 interiors past the reach pile up just above it (lower decile 0.3 sigma above),
     a narrow slice the spread test alone takes for a plateau of full contact (before the
-    clearance rule: full contact 0.13, the area 6.9x the truth). It is unmixed against the
+    clearance rule: full contact 0.14, the area 6.9x the truth). It is unmixed against the
     assumed darkness of full contact instead: the truth is the region's darkness over
-    0.97, to 2 % (the noise of the 100 x 2400 px sum is 0.3 %; the edges' share of the
-    unmixed zone 1 %)."""
+    0.97 (the darkness this test gives full contact), to 2 % (the noise summed over the
+    region's 2400 px is 0.3 % of its darkness; the edges' share of the unmixed zone 1 %)."""
     from tir_contact.measure import _interiors
 
     rng = np.random.default_rng(12)
@@ -667,3 +670,46 @@ def test_junction_field_with_its_contrast_given_and_a_frame_of_noise_alone():
         for model in (m, assumed):
             a = frame_area(e, model, (slice(40, 81), slice(40, 81)))
             assert a.area_px == a.low_px == 0.0
+
+
+def test_pixels_are_measured_again_at_the_models_own_decision(monkeypatch):
+    """TirView.prepare's second cut (tir_view._remeasured): the pixels too noisy for the
+    first contrast estimate's half (0.15) are cut again at the model's decision (0.485)
+    where the populations separate, and the model made on the wider set is kept only
+    where it still separates and its decision is no lower; otherwise the first cut and
+    model stand."""
+    from types import SimpleNamespace as NS
+
+    import tir_contact.tir_view as tv
+
+    def ref(n_valid):
+        valid = np.zeros(100, bool)
+        valid[:n_valid] = True
+        return NS(reference=NS(valid=valid))
+
+    cuts = []
+
+    def measurable(whole, threshold, n_sigma):
+        cuts.append(threshold)
+        return ref(int(threshold * 100))  # a higher decision keeps more pixels
+
+    again = {}
+    monkeypatch.setattr(tv, "measurable", measurable)
+    monkeypatch.setattr(tv.TirView, "population_model",
+                        staticmethod(lambda samples, tref, contact_is, options: again["m"]))
+    first, model = ref(15), NS(threshold=0.485, separation=3.0)
+    options = NS(noise_sigmas=5.0)
+    args = ([], ref(100), first, model, 0.15, "dark", options)
+    again["m"] = NS(threshold=0.485, separation=2.5)
+    tref, m = tv._remeasured(*args)
+    assert cuts == [0.485] and m is again["m"]
+    assert np.count_nonzero(tref.reference.valid) == 48
+    for kept in (NS(threshold=0.40, separation=2.5),    # a lower decision
+                 NS(threshold=0.60, separation=0.9)):   # no longer separating
+        again["m"] = kept
+        assert tv._remeasured(*args) == (first, model)
+    # a first model that does not separate, or whose decision is the first cut's: no cut
+    cuts.clear()
+    for m0 in (NS(threshold=0.485, separation=0.8), NS(threshold=0.15, separation=3.0)):
+        assert tv._remeasured([], ref(100), first, m0, 0.15, "dark", options) == (first, m0)
+    assert cuts == []

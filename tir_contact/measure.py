@@ -110,7 +110,7 @@ MAX_PLATEAU_SPREAD = 1.0
 #: Noise sigmas of a free pixel by which such a plateau's lower decile must clear the
 #: level it was cut at (the free surface's reach): a plateau at ``c`` with the noise's
 #: spread has its lower decile 1.28 sigma below ``c``, and with ``c`` 2.56 sigma above the
-#: cut it loses under 0.5 % of its pixels to the cut. Pixels that pass the cut only by
+#: cut it loses 0.5 % of its pixels to the cut. Pixels that pass the cut only by
 #: their noise or their share of junctions (a field of junctions below the pixel whose
 #: darkness tops out near the reach) pile up just above it instead: their lower decile is
 #: the cut, and the spread test alone reads the cut's own narrow slice as a plateau (a
@@ -479,12 +479,17 @@ def _full_level(values: np.ndarray, noise: float, *, bounded: bool = True
     reads the mix, not full contact, and every area unmixed against it is read that much
     too high (18 %). A wholly covered pixel reads full contact's level plus its noise: the
     interiors' :data:`FULL_QUANTILE` quantile less as many sigmas of the camera's darkness
-    noise `noise` (at the free surface's light, which bounds it at contact's lower light)
-    is that level where enough of them are wholly covered. A plateau with noise alone reads
-    its own level (its 90th percentile lies 1.28 sigma above it); one graded by pressure,
-    its upper part. Never below the median. The range: the 10th and 90th percentiles.
-    Where `bounded` is False (bright contact, whose darkness grows without a full level;
-    a weak plateau, read as it is), the median.
+    noise `noise` is that level where enough of them are wholly covered. :func:`area_model`
+    gives the noise map's median over the whole frame: at the free surface's light, which
+    bounds the noise at contact's lower light, and larger still where the lit zone is small
+    (its unlit pixels are noisier), which keeps the correction short of the upper decile
+    (the lit pixels' own median was tried: a static scene's interiors also spread by the
+    light its estimate cannot follow, and a dark noisy static pad then read its full level
+    too high, its bar holding the truth in 1 of 32 frames instead of 32). A plateau with
+    noise alone reads its own level (its 90th percentile lies 1.28 sigma above it); one
+    graded by pressure, its upper part. Never below the median. The range: the 10th and
+    90th percentiles. Where `bounded` is False (bright contact, whose darkness grows
+    without a full level; a weak plateau, read as it is), the median.
 
     Examples
     --------
@@ -561,8 +566,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         band may go on that far beyond it, and the error bar's high end holds it
         (:func:`frame_area`).
     bright : bool
-        Bright contact (its darkness negative, growing without a full level): ``c`` is the
-        median of the interiors (:func:`_full_level`).
+        Bright contact (brighter than the free surface, its darkness growing without a
+        full level): ``c`` is the median of the interiors (:func:`_full_level`).
 
     Returns
     -------

@@ -114,10 +114,10 @@ class TirView:
             contrast = _contrast(samples, tref, contact_is, options)
         threshold = _threshold(contrast, options, tref.camera)
         # pixels too noisy for the threshold are not measured
-        lit = tref
-        tref = measurable(lit, threshold, n_sigma=options.noise_sigmas)
+        whole = tref
+        tref = measurable(whole, threshold, n_sigma=options.noise_sigmas)
         model = cls.population_model(samples, tref, contact_is, options)
-        tref, model = _remeasured(samples, lit, tref, model, threshold, contact_is, options)
+        tref, model = _remeasured(samples, whole, tref, model, threshold, contact_is, options)
         # the decision where the two populations separate (tir_contact.measure): half
         # the darkness of full contact, at least the free surface's reach
         threshold, contrast = model.threshold, model.contact_darkness
@@ -374,21 +374,22 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
                       bright=contact_is == "bright")
 
 
-def _remeasured(samples: list[np.ndarray], lit: TirReference, tref: TirReference,
+def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReference,
                 model: AreaModel, threshold: float, contact_is: str,
                 options: AnalysisOptions) -> tuple[TirReference, AreaModel]:
     """The measured pixels and the population model at the model's own decision.
 
     The first cut of the pixels too noisy to measure (:func:`tir_contact.reference.measurable`
-    of `lit`, the free surface on the whole lit zone) is taken at `threshold`, the first
+    of `whole`, the free surface on the whole lit zone) is taken at `threshold`, the first
     estimate of the contrast's half; the model may then place the half-contact decision
     higher (a contrast first read low: a junction field whose darkness is a fraction of full
     contact's, the darkness of full contact then assumed). A pixel whose noise stays clear
     of that decision cannot cross it by noise: it is measured too, and the model is made
     again on the wider set. Not where the populations do not separate (the decision is then
-    the free surface's reach, not contact's, and no measure of contact), and only where the
-    new model's decision stays at least the one the pixels were cut at. Else `tref` and
-    `model` as they are.
+    the free surface's reach, not contact's, and no measure of contact), and the new model
+    is kept only where they still separate in it and its decision stays at least the one
+    the pixels were cut at. Else `tref` and `model` as they are (the first model's notes
+    are those of the model returned: `summary.json`'s `too_noisy_fraction` tells the cut).
 
     The dim rim of a lit disc in a dark 8-bit JPEG (white level 0.11, a physical block's
     junction field): 18 % of the frame was cut at the first estimate (0.15) and held up to
@@ -396,11 +397,11 @@ def _remeasured(samples: list[np.ndarray], lit: TirReference, tref: TirReference
     """
     if not (model.separation > 1.0 and model.threshold > threshold):
         return tref, model
-    wider = measurable(lit, model.threshold, n_sigma=options.noise_sigmas)
+    wider = measurable(whole, model.threshold, n_sigma=options.noise_sigmas)
     if np.count_nonzero(wider.reference.valid) <= np.count_nonzero(tref.reference.valid):
         return tref, model
     again = TirView.population_model(samples, wider, contact_is, options)
-    if again.threshold < model.threshold:
+    if again.separation <= 1.0 or again.threshold < model.threshold:
         return tref, model
     return wider, again
 
