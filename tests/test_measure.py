@@ -278,7 +278,6 @@ def test_texture_past_half_contact_is_said_and_the_budget_holds_the_area():
     assert a.high_px - a.low_px > true
 
 
-
 def _bubbles(rng: np.random.Generator, shape, n: int, darkness: float) -> np.ndarray:
     """Darkness of `n` bubbles (discs of radius 10-30 px), each taking `darkness` of the
     light that reaches it: overlaps multiply, so the field is bounded by its deepest
@@ -377,7 +376,6 @@ def test_static_scene_reads_junctions_over_a_bubble_against_its_local_free_surfa
     assert a.low_px <= true <= a.high_px
 
 
-
 @pytest.mark.parametrize("sigma", [0.01, 0.02, 0.05])
 def test_local_free_surface_of_a_noisy_plateau_is_its_mean(sigma):
     """Over a bubble's plateau (0.2, 60 px across) with Gaussian noise, the darkness over
@@ -395,6 +393,7 @@ def test_local_free_surface_of_a_noisy_plateau_is_its_mean(sigma):
     core = ((xx - 100) ** 2 + (yy - 80) ** 2) < 20 ** 2  # away from the plateau's rim
     assert abs(float(u[core].mean())) < 0.5 * sigma
     assert float(u[core].std()) == pytest.approx(sigma, rel=0.2)
+
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_static_scene_bar_holds_junctions_beyond_the_zone(seed):
@@ -433,6 +432,7 @@ def test_static_junctions_with_their_contrast_given_are_counted(seed):
     true = float(cov.sum())
     assert a.area_px == pytest.approx(true, rel=0.03)
     assert a.low_px <= true <= a.high_px
+
 
 def test_box_limits_the_search():
     rng = np.random.default_rng(11)
@@ -689,14 +689,15 @@ def test_pixels_are_measured_again_at_the_models_own_decision(monkeypatch):
 
     cuts = []
 
-    def measurable(whole, threshold, n_sigma):
+    def measurable(whole, threshold, n_sigma, sigma=None):
         cuts.append(threshold)
         return ref(int(threshold * 100))  # a higher decision keeps more pixels
 
     again = {}
     monkeypatch.setattr(tv, "measurable", measurable)
     monkeypatch.setattr(tv.TirView, "population_model",
-                        staticmethod(lambda samples, tref, contact_is, options: again["m"]))
+                        staticmethod(lambda samples, tref, contact_is, options, sigma=None:
+                                     again["m"]))
     first, model = ref(15), NS(threshold=0.485, separation=3.0)
     options = NS(noise_sigmas=5.0)
     args = ([], ref(100), first, model, 0.15, "dark", options)

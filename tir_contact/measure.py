@@ -465,6 +465,7 @@ def _bounded_reach(few: list[np.ndarray], noise: float, seed: np.ndarray,
 #: Quantile of the resolved interiors' darkness from which full contact's level is read
 #: (:func:`_full_level`).
 FULL_QUANTILE = 0.9
+_FULL_Z = float(norm.ppf(FULL_QUANTILE))  # noise sigmas the quantile lies above a plateau
 
 
 def _full_level(values: np.ndarray, noise: float, *, bounded: bool = True
@@ -503,7 +504,7 @@ def _full_level(values: np.ndarray, noise: float, *, bounded: bool = True
     c = float(np.median(values))
     c_lo, c_hi = (float(v) for v in np.percentile(values, [10.0, 100 * FULL_QUANTILE]))
     if bounded:
-        c = max(c, c_hi - float(norm.ppf(FULL_QUANTILE)) * noise)
+        c = max(c, c_hi - _FULL_Z * noise)
     return c, c_lo, c_hi
 
 

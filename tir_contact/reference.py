@@ -837,13 +837,16 @@ def tir_reference(
     return TirReference(ref, lit, mode, method, noise, *tex)
 
 
-def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0) -> TirReference:
+def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0,
+               sigma: np.ndarray | None = None) -> TirReference:
     """`tref` with ``reference.valid`` cut to the lit pixels whose noise stays clear of the
     threshold: ``n_sigma * sigma_D <= threshold`` (see :meth:`NoiseModel.sigma_darkness`).
 
     Where the light is too weak (the soft rim, a dim corner) a noise peak would cross the
     contact threshold; such pixels are not measured rather than counted as speckle.
+    `sigma`: ``sigma_D`` of `tref`'s free surface, when the caller has it already.
     """
-    sigma = tref.noise.sigma_darkness(tref.reference.image)
+    if sigma is None:
+        sigma = tref.noise.sigma_darkness(tref.reference.image)
     valid = tref.lit.mask & (n_sigma * sigma <= threshold)
     return dataclasses.replace(tref, reference=dataclasses.replace(tref.reference, valid=valid))

@@ -113,11 +113,14 @@ class TirView:
         if contrast is None:
             contrast = _contrast(samples, tref, contact_is, options)
         threshold = _threshold(contrast, options, tref.camera)
-        # pixels too noisy for the threshold are not measured
+        # pixels too noisy for the threshold are not measured; the darkness noise of the
+        # free surface is the same map for every cut and model below
         whole = tref
-        tref = measurable(whole, threshold, n_sigma=options.noise_sigmas)
-        model = cls.population_model(samples, tref, contact_is, options)
-        tref, model = _remeasured(samples, whole, tref, model, threshold, contact_is, options)
+        sigma = whole.noise.sigma_darkness(whole.reference.image)
+        tref = measurable(whole, threshold, n_sigma=options.noise_sigmas, sigma=sigma)
+        model = cls.population_model(samples, tref, contact_is, options, sigma=sigma)
+        tref, model = _remeasured(samples, whole, tref, model, threshold, contact_is, options,
+                                  sigma)
         # the decision where the two populations separate (tir_contact.measure): half
         # the darkness of full contact, at least the free surface's reach
         threshold, contrast = model.threshold, model.contact_darkness
@@ -125,10 +128,12 @@ class TirView:
 
     @staticmethod
     def population_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
-                         options: AnalysisOptions) -> AreaModel:
+                         options: AnalysisOptions, *, sigma: np.ndarray | None = None
+                         ) -> AreaModel:
         """The per-video model of the darkness populations (free surface, contact), made
-        once in :meth:`prepare` from the sampled frames (:func:`_area_model`)."""
-        return _area_model(samples, tref, contact_is, options)
+        once in :meth:`prepare` from the sampled frames (:func:`_area_model`); `sigma`: the
+        free surface's darkness noise, when already computed."""
+        return _area_model(samples, tref, contact_is, options, sigma)
 
     def analyser(self, setup: Any, options: AnalysisOptions) -> TirFrames:
         """The per-frame step of this video."""
@@ -361,12 +366,15 @@ def _contrast(samples: list[np.ndarray], tref: TirReference, contact_is: str,
 
 
 def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
-                options: AnalysisOptions) -> AreaModel:
+                options: AnalysisOptions, sigma: np.ndarray | None = None) -> AreaModel:
     """The darkness populations of a TIR video (:func:`tir_contact.measure.area_model`) from
-    the sampled frames' darkness on the measured pixels."""
+    the sampled frames' darkness on the measured pixels (`sigma`: the free surface's
+    darkness noise, :meth:`tir_contact.reference.NoiseModel.sigma_darkness`, computed here
+    when not given)."""
     norm = Normaliser(tref.reference, contact_is)
     darkness = [norm(f) for f in samples]
-    sigma = tref.noise.sigma_darkness(tref.reference.image)
+    if sigma is None:
+        sigma = tref.noise.sigma_darkness(tref.reference.image)
     return area_model(darkness, sigma, contrast=options.contrast,
                       min_cluster_px=options.min_area_px,
                       static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
@@ -376,7 +384,8 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
 
 def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReference,
                 model: AreaModel, threshold: float, contact_is: str,
-                options: AnalysisOptions) -> tuple[TirReference, AreaModel]:
+                options: AnalysisOptions, sigma: np.ndarray | None = None
+                ) -> tuple[TirReference, AreaModel]:
     """The measured pixels and the population model at the model's own decision.
 
     The first cut of the pixels too noisy to measure (:func:`tir_contact.reference.measurable`
@@ -394,13 +403,14 @@ def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReferen
     The dim rim of a lit disc in a dark 8-bit JPEG (white level 0.11, a physical block's
     junction field): 18 % of the frame was cut at the first estimate (0.15) and held up to
     63 % of the contact while the block entered, which no reading of the rest can see.
+    `sigma`: the free surface's darkness noise, shared by both cuts and models.
     """
     if not (model.separation > 1.0 and model.threshold > threshold):
         return tref, model
-    wider = measurable(whole, model.threshold, n_sigma=options.noise_sigmas)
+    wider = measurable(whole, model.threshold, n_sigma=options.noise_sigmas, sigma=sigma)
     if np.count_nonzero(wider.reference.valid) <= np.count_nonzero(tref.reference.valid):
         return tref, model
-    again = TirView.population_model(samples, wider, contact_is, options)
+    again = TirView.population_model(samples, wider, contact_is, options, sigma=sigma)
     if again.separation <= 1.0 or again.threshold < model.threshold:
         return tref, model
     return wider, again
