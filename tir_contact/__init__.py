@@ -16,7 +16,8 @@ Reference and segmentation (:mod:`tir_contact.flatfield`, :mod:`tir_contact.segm
     :func:`fit_reference`, :class:`ReferenceFit`.
 Features (:mod:`tir_contact.features`, :mod:`tir_contact.side`)
     :class:`BlockLayout`, :func:`tir_frame_features`, :func:`tir_frame_records`,
-    :class:`FrameFeatures`, :func:`side_frame_features`, :func:`side_darkness`,
+    :class:`FrameFeatures`, :class:`FreeLevel` (graded contact, :mod:`tir_contact.graded`),
+    :func:`side_frame_features`, :func:`side_darkness`,
     :func:`ice_line_y_px`, :func:`block_span_px`, :class:`SideFeatures`.
 Views (:mod:`tir_contact.view`, :mod:`tir_contact.tir_view`, :mod:`tir_contact.side_view`)
     :class:`View`, :class:`TirView`, :class:`SideView`, :class:`FrameResult`: one object per
@@ -64,6 +65,7 @@ _LAZY = {
     "FrameFeatures": "tir_contact.features",
     "tir_frame_features": "tir_contact.features",
     "tir_frame_records": "tir_contact.features",
+    "FreeLevel": "tir_contact.graded",
     "SideFeatures": "tir_contact.side",
     "side_darkness": "tir_contact.side",
     "side_frame_features": "tir_contact.side",

@@ -17,8 +17,12 @@ The sliding direction is handled by mirroring both profiles so that the block al
 towards smaller x (the leading side is on the left); positions are mirrored back at the end.
 
 1. *Runs*: columns with ``n(c) >= n_max / 2`` (more than half the contact rows) form contact
-   runs. A run whose first (last) column is the view's first (last) column is *clipped*:
-   its edge lies at or beyond the view's end. The view is the image or, with ``valid``,
+   runs; for graded contact (``free`` given: a field of junctions below the pixel, which
+   reaches half coverage only at each face's dark front), the columns whose mean darkness
+   holds contact significantly (:mod:`tir_contact.graded`), their edges at that presence
+   level and their areas the unmixed darkness. A run whose first (last) column
+   is the view's first (last) column is *clipped*: its edge lies at or beyond the view's
+   end. The view is the image or, with ``valid``,
    the columns whose valid pixels in the contact's rows could hold a run (at least
    ``n_max / 2``): where the lit zone ends or narrows past that, the view ends.
 2. *Element numbering* (needs the geometry, :class:`BlockLayout`): the element footprint
@@ -124,6 +128,7 @@ import pandas as pd
 
 from friction_model.geometry import BlockGeometry
 from tir_common.validate import check_positive
+from tir_contact.graded import FreeLevel, graded_runs
 from tir_contact.segment import FrameContact
 
 __all__ = [
@@ -734,18 +739,21 @@ def _valid_cumsum(valid: np.ndarray, r0: int, r1: int, flip: bool,
 
 
 def _view(valid: np.ndarray | None, span: tuple[int, int, int, int], flip: bool,
-          counts: np.ndarray, valid_counts: ValidCounts | None
+          counts: np.ndarray, valid_counts: ValidCounts | None, need: int | None = None
           ) -> tuple[list[int] | None, tuple[int, int]]:
     """The cumulative valid pixels per column in the contact's rows (None without `valid`)
     and the view's first and last column (mirrored frame): those whose valid pixels there
     could hold a run, at least half of the most contact pixels a column holds (a run's own
-    rule, :func:`_half_runs`); where the lit zone narrows past them, a run ends because the
-    view ends. The image's ends without `valid`, or when no column can."""
+    rule, :func:`_half_runs`; `need` pixels where given); where the lit zone narrows past
+    them, a run ends because the view ends. The image's ends without `valid`, or when no
+    column can."""
     n_cols = counts.shape[0]
     if valid is None:
         return None, (0, n_cols - 1)
     vcum, columns = _valid_cumsum(valid, span[0], span[1], flip, valid_counts)
-    seen = np.flatnonzero(columns >= (int(counts.max()) + 1) // 2)
+    if need is None:
+        need = (int(counts.max()) + 1) // 2
+    seen = np.flatnonzero(columns >= need)
     return vcum, ((int(seen[0]), int(seen[-1])) if seen.size else (0, n_cols - 1))
 
 
@@ -773,6 +781,7 @@ def tir_frame_records(
     valid: np.ndarray | None = None,
     time_s: float | None = None,
     peak_window_mm: float = 1.0,
+    free: FreeLevel | None = None,
 ) -> tuple[dict[str, float | int | bool], np.ndarray]:
     """Features of one TIR frame as a dict and a record array (the fast path).
 
@@ -781,7 +790,7 @@ def tir_frame_records(
 
     Parameters
     ----------
-    d, contact, layout, valid, time_s, peak_window_mm
+    d, contact, layout, valid, time_s, peak_window_mm, free
         See :func:`tir_frame_features`.
 
     Returns
@@ -811,7 +820,7 @@ def tir_frame_records(
         raise ValueError(f"valid must have the shape of d {d.shape}, got {valid.shape}")
     if not (math.isfinite(peak_window_mm) and peak_window_mm > 0):
         raise ValueError(f"peak_window_mm must be > 0, got {peak_window_mm=}")
-    frame, rows = frame_rows(d, contact, layout, valid, time_s, peak_window_mm)
+    frame, rows = frame_rows(d, contact, layout, valid, time_s, peak_window_mm, free=free)
     return frame, element_records(rows)
 
 
@@ -910,18 +919,21 @@ def _element_runs(
     p: list[float],
     n_cols: int,
     view: tuple[int, int],
+    edge_level: float | None = None,
 ) -> dict[int, _Run]:
     """Step 3: each element's front edge, summed length, area and first run (px).
 
     A further run of the same element adds its length and area; the front and peak stay
     the first run's. A run is clipped where it reaches the view's first or last column
-    (`view`, mirrored frame: :func:`_view`).
+    (`view`, mirrored frame: :func:`_view`). The edges cross half the run's median
+    darkness, or `edge_level` where given (graded contact's presence level,
+    :mod:`tir_contact.graded`).
     """
     first, last = view
     per: dict[int, _Run] = {}
     for piece, area in zip(pieces, areas, strict=True):
         c0, c1 = piece.c0, piece.c1
-        level = 0.5 * _median(p[c0 : c1 + 1])
+        level = 0.5 * _median(p[c0 : c1 + 1]) if edge_level is None else edge_level
         x_f = float(c0) if piece.split_front else _front_edge(p, c0, c1, level)
         x_b = float(c1 + 1) if piece.split_back else _back_edge(p, c0, c1, level, n_cols)
         e = per.get(piece.element)
@@ -1025,6 +1037,59 @@ def _block_values(frame: dict[str, float | int | bool], rows: list[ElementRow]) 
         frame["deflection_angle_deg"] = sum(angles) / len(angles)
 
 
+def graded_back_px(layout: BlockLayout) -> int:
+    """Columns behind the contact that graded contact is sought in: the longest element
+    (0 without the geometry)."""
+    if layout.element_lengths_mm is None:
+        return 0
+    return math.ceil(max(layout.element_lengths_mm) / layout.mm_per_px)
+
+
+def _graded_profiles(
+    d: np.ndarray,
+    span: tuple[int, int, int, int] | None,
+    box: tuple[slice, slice] | None,
+    free: FreeLevel,
+    layout: BlockLayout,
+    sums: ColumnSums | None,
+) -> tuple[tuple[int, int, int, int], list[float], Any] | None:
+    """Graded contact's span, mirrored profile ``p`` and runs
+    (:class:`tir_contact.graded.GradedRuns`, columns in the mirrored frame), or None where
+    no column holds contact.
+
+    The rows and columns are the contact's, its columns widened by :data:`EDGE_MARGIN_PX`
+    and towards the back by the longest element (:func:`graded_back_px`: the last face's
+    faint back lies past the last column that reaches half coverage, at its front), and to
+    the box where given (a junction field's faint contact: faces that reach half coverage
+    nowhere), the box's alone without half-coverage contact.
+    """
+    n_cols = d.shape[1]
+    flip = layout.sliding_direction == "right"
+    if span is not None:
+        r0, r1, c_lo, c_hi = span
+        back = graded_back_px(layout)
+        c_lo, c_hi = (c_lo - back, c_hi) if flip else (c_lo, c_hi + back)
+        if box is not None:  # faces that reach half coverage nowhere
+            c_lo, c_hi = min(c_lo, box[1].start), max(c_hi, box[1].stop)
+    elif box is not None:
+        r0, r1, c_lo, c_hi = box[0].start, box[0].stop, box[1].start, box[1].stop
+    else:
+        return None
+    a, b = max(c_lo - EDGE_MARGIN_PX, 0), min(c_hi + EDGE_MARGIN_PX, n_cols)
+    prof = _column_mean(d, r0, r1, a, b, sums)
+    if flip:
+        prof, a, b = prof[::-1], n_cols - b, n_cols - a
+    runs = graded_runs(prof, r1 - r0, free)
+    if runs is None:
+        return None
+    column_px = np.zeros(n_cols)
+    column_px[a:b] = runs.column_px
+    p = [0.0] * n_cols
+    p[a:b] = np.nan_to_num(prof, nan=free.offset).tolist()
+    return ((r0, r1, max(c_lo, 0), min(c_hi, n_cols)), p,
+            ([s + a for s in runs.starts], [e + a for e in runs.ends], runs.level, column_px))
+
+
 def frame_rows(
     d: np.ndarray,
     contact: FrameContact,
@@ -1034,24 +1099,38 @@ def frame_rows(
     peak_window_mm: float,
     sums: ColumnSums | None = None,
     valid_counts: ValidCounts | None = None,
+    free: FreeLevel | None = None,
+    faint_box: tuple[slice, slice] | None = None,
 ) -> tuple[dict[str, float | int | bool], list[ElementRow]]:
     """:func:`tir_frame_records` without the checks, the elements as :class:`ElementRow`.
 
     A batch builds one record array at the end (:func:`element_records`) instead of one per
     frame. `sums`: column sums of `d` already taken (see :func:`_column_mean`);
-    `valid_counts`: the video's cache of valid-pixel counts.
+    `valid_counts`: the video's cache of valid-pixel counts. `free`: the free surface's
+    darkness and noise where contact is graded (:mod:`tir_contact.graded`); `faint_box`: where
+    a junction field's faint contact lies, sought there when no pixel reaches half
+    coverage.
     """
     px = layout.mm_per_px
     n_cols = d.shape[1]
     counts, row_counts = contact.line_counts
     span = _contact_span(contact, counts, row_counts)
-    if span is None:
+    graded = None
+    if free is not None and layout.element_lengths_mm is not None:
+        graded = _graded_profiles(d, span, faint_box, free, layout, sums)
+    if span is None and graded is None:
         return _empty_frame(contact.n_regions), []
     if layout.element_lengths_mm is None:
         return _frame_without_geometry(d, contact, layout, counts, span, peak_window_mm,
                                        valid, valid_counts), []
     flip = layout.sliding_direction == "right"
-    p, counts, starts, ends = _mirrored_profiles(d, counts, span, flip, sums)
+    edge_level = need = None
+    if graded is None:
+        p, counts, starts, ends = _mirrored_profiles(d, counts, span, flip, sums)
+    else:
+        span, p, runs = graded
+        starts, ends, edge_level, counts = runs
+        need = (span[1] - span[0] + 1) // 2  # a column seen in at least half the rows
     # Step 2: the template's offset and the element of each run.
     fronts, lengths = layout._template_px
     fronts_l, lengths_l, quarters_l = layout._template_lists
@@ -1061,7 +1140,7 @@ def frame_rows(
         x0_carrier = n_cols - x_und / px if flip else x_und / px
     # the view's ends along the contact's rows: where the lit zone ends, a run is cut and
     # the template clipped as at the image border
-    vcum, view = _view(valid, span, flip, counts, valid_counts)
+    vcum, view = _view(valid, span, flip, counts, valid_counts, need)
     x0 = _fit_offset(starts, ends, fronts, lengths, n_cols, x0_carrier, fronts_l, lengths_l,
                      view)
     pieces = _assign(starts, ends, x0, fronts_l, lengths_l, quarters_l,
@@ -1070,11 +1149,12 @@ def frame_rows(
     bounds = [0]
     for a, b in itertools.pairwise(pieces):
         bounds.append((a.c1 + 1 + b.c0) // 2)
-    areas = np.add.reduceat(counts, bounds, dtype=np.int64).tolist()
+    areas = np.add.reduceat(counts, bounds,
+                            dtype=np.int64 if graded is None else np.float64).tolist()
     total = sum(areas)  # the pieces' areas partition the columns
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
-    per = _element_runs(pieces, areas, p, n_cols, view)
+    per = _element_runs(pieces, areas, p, n_cols, view, edge_level)
     rows = _element_rows(per, x0, x_und, layout, p, n_cols, peak_window_mm, view)
     frame["contact_ratio"] = _contact_ratio(total, x0, layout, span, n_cols, vcum)
     _block_values(frame, rows)
@@ -1089,6 +1169,7 @@ def tir_frame_features(
     valid: np.ndarray | None = None,
     time_s: float | None = None,
     peak_window_mm: float = 1.0,
+    free: FreeLevel | None = None,
 ) -> FrameFeatures:
     """Block and element features of one TIR frame (see the module notes for the method).
 
@@ -1110,6 +1191,13 @@ def tir_frame_features(
     peak_window_mm : float
         Length behind an element's front edge searched for the pressure peak, mm (at most
         half the element's contact); 1 mm holds the 0.4 mm edge band of a new sample.
+    free : FreeLevel, optional
+        For graded contact (a field of junctions below the pixel, densest at each face's
+        front; :func:`tir_contact.graded.graded_contact` tells it from a video's frames,
+        and the analysis gives this where it is): the free surface's darkness and noise
+        and full contact's darkness. The runs are then the columns that hold contact
+        (:mod:`tir_contact.graded`); without it the half-coverage runs (module notes,
+        step 1).
 
     Returns
     -------
@@ -1130,7 +1218,8 @@ def tir_frame_features(
     [[0.0, 1.0, 0.0], [1.0, 0.8, 0.2]]
     """
     frame, rec = tir_frame_records(
-        d, contact, layout, valid=valid, time_s=time_s, peak_window_mm=peak_window_mm
+        d, contact, layout, valid=valid, time_s=time_s, peak_window_mm=peak_window_mm,
+        free=free,
     )
     elements = pd.DataFrame({name: rec[name] for name in rec.dtype.names}, copy=False)
     return FrameFeatures(frame, elements)

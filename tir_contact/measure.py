@@ -74,11 +74,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
 from scipy.stats import norm
+
+from tir_contact.graded import FreeLevel, graded_contact
 
 __all__ = [
     "ASSUMED_FULL_DARKNESS",
@@ -204,6 +206,11 @@ class AreaModel:
         light, or contact covering the same share of every pixel (many junctions below a
         pixel each), which a single image cannot tell apart; the error bar's low end holds
         the second reading.
+    graded : bool
+        The contact is graded: a field of junctions below the pixel that reaches half of
+        full contact only in the dense band at each face's front
+        (:func:`tir_contact.graded.graded_contact`); the features then find the elements'
+        runs where the columns hold contact at all (:mod:`tir_contact.graded`).
     """
 
     offset: float
@@ -232,6 +239,15 @@ class AreaModel:
     rim_px: int = 0
     weak_plateau: bool = False
     reach_measured: bool = False
+    graded: bool = False
+
+    def free_level(self) -> FreeLevel:
+        """The presence test's levels of graded contact (:mod:`tir_contact.graded`): the
+        free surface's darkness and one pixel's noise over the correlation area (a static
+        scene's whole spread, its dust and texture staying in its free surface), and full
+        contact's darkness."""
+        sigma = max(self.sd_free, self.sigma_free) if self.static else self.sigma_free
+        return FreeLevel(self.offset, sigma * math.sqrt(self.corr_px), self.contact_darkness)
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -252,6 +268,7 @@ class AreaModel:
                 "source": self.contact_source,
                 "n_resolved_pixels": self.n_full_px,
                 "weak_plateau": self.weak_plateau,
+                "graded": self.graded,
             },
             "threshold": round(self.threshold, r),
             "separation": round(self.separation, 3) if math.isfinite(self.separation)
@@ -658,12 +675,12 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
             f"reaches {reach:.3f} (texture {texture:.3f}, offset {b:+.3f}), beyond half the "
             f"darkness of full contact ({c / 2:.3f}); resolved contact is counted above "
             f"{threshold:.3f} only, the rest is unmixed and its error bar is wide")
-    return AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c, c_lo,
-                     c_hi, source,
-                     n_full, threshold, separation, notes, int(min_cluster_px), bool(static),
-                     float(zone_sigma), float(zone_corr_px),
-                     *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
-                     weak_plateau=weak, reach_measured=measured)
+    model = AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c,
+                      c_lo, c_hi, source, n_full, threshold, separation, notes,
+                      int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
+                      *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
+                      weak_plateau=weak, reach_measured=measured)
+    return replace(model, graded=graded_contact(samples, threshold, model.free_level()))
 
 
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:

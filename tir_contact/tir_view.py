@@ -34,10 +34,18 @@ from scipy.stats import norm
 from tir_contact._darkness import BoxDarkness, ContactTest, Normaliser
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact._readers import FootageError
-from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows
+from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows, graded_back_px
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, lit_zone_from_file
-from tir_contact.measure import EDGE_PX, ZONE_PX, AreaModel, FrameArea, area_model, frame_area
+from tir_contact.measure import (
+    EDGE_PX,
+    MIN_FULL_PX,
+    ZONE_PX,
+    AreaModel,
+    FrameArea,
+    area_model,
+    frame_area,
+)
 from tir_contact.options import AnalysisOptions
 from tir_contact.overlay import draw_tir_overlay
 from tir_contact.reference import TirReference, measurable, tir_reference
@@ -203,6 +211,13 @@ class TirFrames:
                        if model is not None and not model.static and model.separation > 1.0
                        else None)
         self._area_box: tuple[slice, slice] | None = None  # this frame's, with the seeds
+        self._free = model.free_level() if model is not None and model.graded else None
+        # a junction field (no resolved contact in the sampled frames): its faint contact
+        # is sought where the seeds place it, also where no pixel reaches half coverage
+        self._field = model is not None and model.n_full_px < MIN_FULL_PX
+        # graded contact's faces reach past the half-coverage box towards the back
+        back = graded_back_px(setup.layout) if self._free is not None else 0
+        self._widen = (back, 0) if setup.layout.sliding_direction == "right" else (0, back)
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, FrameContact, tuple | None]:
         """Steps 1 to 3: the darkness (in the box, NaN elsewhere), the contact, and the
@@ -223,8 +238,8 @@ class TirFrames:
             return d, FrameContact(raw.shape, threshold, 0, d), None
         # the rows and (widened) columns the features read
         rows = box[0]
-        cols = slice(max(box[1].start - EDGE_MARGIN_PX, 0),
-                     min(box[1].stop + EDGE_MARGIN_PX, raw.shape[1]))
+        cols = slice(max(box[1].start - EDGE_MARGIN_PX - self._widen[0], 0),
+                     min(box[1].stop + EDGE_MARGIN_PX + self._widen[1], raw.shape[1]))
         d = self._box.fill(frame, *(area_box or (rows, cols)))
         # the features' column sums, while the darkness is still in the cache
         sums = (rows.start, rows.stop, cols.start, cv2.reduce(
@@ -240,7 +255,8 @@ class TirFrames:
         t = k / s.fps
         d, contact, sums = self.segment(frame)
         row, el_rows = frame_rows(d, contact, s.layout, self.normalise.valid, t,
-                                  self.options.peak_window_mm, sums, self._valid_counts)
+                                  self.options.peak_window_mm, sums, self._valid_counts,
+                                  self._free, self._area_box if self._field else None)
         row["frame"] = k
         row["time_s"] = t
         row["n_regions"] = contact.n_regions
