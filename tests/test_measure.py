@@ -714,3 +714,39 @@ def test_pixels_are_measured_again_at_the_models_own_decision(monkeypatch):
     for m0 in (NS(threshold=0.485, separation=0.8), NS(threshold=0.15, separation=3.0)):
         assert tv._remeasured([], ref(100), first, m0, 0.15, "dark", options) == (first, m0)
     assert cuts == []
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_junction_field_box_is_read_against_the_free_surfaces_mean(seed):
+    """A junction field (no resolved contact: every pixel of the box round it is summed)
+    on a free surface whose noise is skewed (mean 0.0026 above its median, as 8-bit steps
+    and JPEG make it): against the median every free pixel of the box adds 0.0026, about
+    14 px over this box; against the free surface's mean away from contact the sum holds
+    the drawn coverage. Two of the sampled frames are free, the block passes in the rest."""
+    rng = np.random.default_rng(seed)
+
+    def frame(col: int | None) -> tuple[np.ndarray, float]:
+        d = 0.01 + rng.gamma(2.0, 0.008, SHAPE).astype(np.float32)  # skewed free surface
+        if col is None:
+            return d, 0.0
+        # 40 x 60 px of junctions: a third of the pixels 30 % covered (none past half)
+        cov = np.where(rng.random((40, 60)) < 1 / 3, 0.3, 0.0).astype(np.float32)
+        d[50:90, col:col + 60] += 0.97 * cov
+        return d, float(cov.sum())
+
+    samples = [frame(None)[0], frame(None)[0]] + [frame(c)[0] for c in (10, 40, 70, 100)]
+    noise = 0.0113  # the gamma's standard deviation
+    m = area_model(samples, _sigma_map(noise))
+    assert m.n_full_px < 9 and m.contact_source == "assumed"
+    assert m.field_offset - m.offset == pytest.approx(0.0026, abs=0.0008)
+    d, true = frame(70)
+    box = (slice(39, 101), slice(59, 141))  # the contact grown by the analysis's zone
+    a = frame_area(d, m, box)
+    n_box = 62 * 82
+    # tolerance: the free surface's noise summed over the box (0.0113 sqrt(5084) / 0.97 =
+    # 0.8 px) and the mean's own uncertainty (about 0.0002 over the box: 1 px), 3 sigma
+    assert a.area_px == pytest.approx(true, abs=4.0)
+    # the median's reading, (mean - median) x the box's pixels higher, lies in the bar
+    median_reading = a.area_px + (m.field_offset - m.offset) * n_box / m.contact_darkness
+    assert median_reading - true > 8.0
+    assert a.low_px <= true <= a.high_px and a.high_px >= median_reading

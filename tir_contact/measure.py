@@ -206,6 +206,11 @@ class AreaModel:
         light, or contact covering the same share of every pixel (many junctions below a
         pixel each), which a single image cannot tell apart; the error bar's low end holds
         the second reading.
+    field_offset : float
+        Mean darkness of the free surface away from any contact (:func:`_free_mean`): the
+        level a junction field's box, every pixel of it summed, is read against (its
+        noise's skew, from 8-bit steps and JPEG, puts the mean above the median ``b``);
+        NaN: not known, ``b`` is used.
     graded : bool
         The contact is graded: a field of junctions below the pixel that reaches half of
         full contact only in the dense band at each face's front
@@ -240,6 +245,7 @@ class AreaModel:
     weak_plateau: bool = False
     reach_measured: bool = False
     graded: bool = False
+    field_offset: float = math.nan
 
     def free_level(self) -> FreeLevel:
         """The presence test's levels of graded contact (:mod:`tir_contact.graded`): the
@@ -305,6 +311,39 @@ def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
     texture = math.sqrt(max(spread ** 2 - noise ** 2, 0.0))
     return (b, spread, texture, n_values, float(np.mean(values, dtype=np.float64)),
             float(np.std(values, dtype=np.float64)))
+
+
+#: Side (px) of the tiles :func:`_free_mean` tests for contact.
+FREE_TILE_PX = 16
+
+
+def _free_mean(samples: list[np.ndarray], sigma_px: float) -> float:
+    """Mean darkness of the free surface away from contact: of the pixels in the tiles of
+    :data:`FREE_TILE_PX` whose mean darkness, and their neighbours', lies within 5 tile
+    noise sigmas (`sigma_px`: one pixel's noise over its correlation area) of the lower
+    quartile of the tile means (a free tile's, where a quarter of the tiles is free: a
+    junction field, however sparse, lifts its tiles' means past that, a single noise pixel
+    does not); NaN from fewer than 100 pixels."""
+    t = FREE_TILE_PX
+    parts = []
+    for d in samples:
+        h, w = (d.shape[0] // t) * t, (d.shape[1] // t) * t
+        if not (h and w):
+            continue
+        sub = d[:h, :w].reshape(h // t, t, w // t, t)
+        finite = np.isfinite(sub)
+        n = finite.sum(axis=(1, 3))
+        mean = np.where(finite, sub, 0.0).sum(axis=(1, 3)) / np.maximum(n, 1)
+        ok = n >= t * t // 2
+        if not ok.any():
+            continue
+        level = float(np.percentile(mean[ok], 25.0)) + 5.0 * sigma_px / t
+        lifted = (mean > level) | ~ok
+        free = ~cv2.dilate(lifted.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+        keep = np.repeat(np.repeat(free, t, axis=0), t, axis=1) & np.isfinite(d[:h, :w])
+        parts.append(d[:h, :w][keep])
+    values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
+    return float(np.mean(values, dtype=np.float64)) if values.size >= 100 else math.nan
 
 
 def correlation_area(samples: list[np.ndarray], b: float, spread: float) -> float:
@@ -680,7 +719,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                       int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
                       *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
                       weak_plateau=weak, reach_measured=measured)
-    return replace(model, graded=graded_contact(samples, threshold, model.free_level()))
+    return replace(model, graded=graded_contact(samples, threshold, model.free_level()),
+                   field_offset=_free_mean(few, sigma_free * math.sqrt(corr)))
 
 
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
@@ -904,6 +944,26 @@ def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
     return np.where(finite, d - local + bf, np.float32(np.nan)).astype(np.float32,
                                                                          copy=False)
 
+def _unmixed_part(u: np.ndarray, edge: np.ndarray, zone: np.ndarray, zone_un: np.ndarray,
+                  finite: np.ndarray, model: AreaModel, *, field: bool
+                  ) -> tuple[np.ndarray, float, float]:
+    """The pixels unmixed beyond the resolved part, the faint contact missed beyond them
+    (px) and the level they are read against.
+
+    The zone's, read against ``b``, and the excess darkness of a ring around the zone (faint
+    contact beyond it); in a junction field (no resolved contact in the sampled frames;
+    `field`: a box with contact in this frame) the box's every measured pixel (none is
+    beyond them: module notes), read against the free surface's mean
+    (``model.field_offset``): free pixels summed, not chosen for being dark.
+    """
+    if field and model.n_full_px < MIN_FULL_PX:
+        level = model.field_offset if math.isfinite(model.field_offset) else model.offset
+        return ~edge & finite, 0.0, level
+    ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & ~zone & finite
+    missed = max(float(np.sum(u[ring] - model.offset, dtype=np.float64)), 0.0)
+    return zone_un, missed / model.contact_darkness, model.offset
+
+
 def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None, *,
                half: np.ndarray | None = None, seeds: np.ndarray | None = None,
                finite: np.ndarray | None = None) -> FrameArea:
@@ -971,23 +1031,15 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     zone_res = edge & finite
     zone_un = near & ~edge & finite
     zone = zone_res | zone_un
-    # the pixels unmixed beyond the resolved part: the zone's, or in a junction field (no
-    # resolved contact in the sampled frames) with contact in this frame, the box's every
-    # one (module notes)
-    field = not whole and model.n_full_px < MIN_FULL_PX and zone.any()
-    if field:  # every measured pixel of the box is counted: none is beyond them
-        sum_un, missed = ~edge & finite, 0.0
-    else:  # faint contact beyond the zone: the excess darkness of a ring around it
-        sum_un = zone_un
-        ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & ~zone & finite
-        missed = max(float(np.sum(u[ring] - b, dtype=np.float64)), 0.0) / c
+    sum_un, missed, b_un = _unmixed_part(u, edge, zone, zone_un, finite, model,
+                                         field=not whole and zone.any())
     # the resolved part over the plausible decisions: counted at any threshold between the
     # free surface's reach (at least c / 4) and 3 c / 4, or unmixed
     t_lo = max(model.seed_median, c / 4) if math.isfinite(model.seed_median) else c / 4
     t_lo = min(t_lo, model.threshold)
     t_hi = max(0.75 * c, model.threshold)
     part_res, res_hi = _resolved_area(d, resolved, zone_res, b, c, t_lo)
-    excess_un = float(np.sum(u[sum_un] - b, dtype=np.float64))
+    excess_un = float(np.sum(u[sum_un] - b_un, dtype=np.float64))
     n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(sum_un))
     with np.errstate(invalid="ignore"):
         res_lo = int(np.count_nonzero(resolved & (d >= t_hi)))
@@ -1020,6 +1072,9 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
                            if static_shown else 0.0)
     high = (max(part_res, res_hi) + high_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
+    # a junction field read against the free surface's mean: the median's reading too
+    shift = (b_un - b) * float(np.count_nonzero(sum_un)) / c
+    low, high = low - max(-shift, 0.0), high + max(shift, 0.0)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
         high += _past_rim(zone, model, box)
     if whole:  # the whole frame: its darkness budget (module notes)
