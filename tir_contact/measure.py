@@ -214,7 +214,8 @@ class AreaModel:
     graded : bool
         The contact is graded: a field of junctions below the pixel that reaches half of
         full contact only in the dense band at each face's front
-        (:func:`tir_contact.graded.graded_contact`); the features then find the elements'
+        (:func:`tir_contact.graded.graded_contact`), or nowhere (no contact resolved:
+        under :data:`MIN_FULL_PX` interior pixels); the features then find the elements'
         runs where the columns hold contact at all (:mod:`tir_contact.graded`).
     """
 
@@ -719,7 +720,9 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                       int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
                       *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
                       weak_plateau=weak, reach_measured=measured)
-    return replace(model, graded=graded_contact(samples, threshold, model.free_level()),
+    # no resolved contact: whatever contact there is lies below the pixel, graded
+    graded = n_full < MIN_FULL_PX or graded_contact(samples, threshold, model.free_level())
+    return replace(model, graded=graded,
                    field_offset=_free_mean(few, sigma_free * math.sqrt(corr)))
 
 
