@@ -738,6 +738,7 @@ def test_junction_field_box_is_read_against_the_free_surfaces_mean(seed):
     noise = 0.0113  # the gamma's standard deviation
     m = area_model(samples, _sigma_map(noise))
     assert m.n_full_px < 9 and m.contact_source == "assumed"
+    assert m.graded  # nothing resolved: whatever contact there is lies below the pixel
     assert m.field_offset - m.offset == pytest.approx(0.0026, abs=0.0008)
     d, true = frame(70)
     box = (slice(39, 101), slice(59, 141))  # the contact grown by the analysis's zone
@@ -750,3 +751,33 @@ def test_junction_field_box_is_read_against_the_free_surfaces_mean(seed):
     median_reading = a.area_px + (m.field_offset - m.offset) * n_box / m.contact_darkness
     assert median_reading - true > 8.0
     assert a.low_px <= true <= a.high_px and a.high_px >= median_reading
+
+
+def test_dense_junction_clusters_are_not_taken_for_full_contact_alone():
+    """A face of junctions (pixels 45 % covered, nine in ten at its front, one in ten
+    behind it) with three dense clusters (5 x 5 px, 64 % covered): the clusters' interiors
+    pass as resolved contact at 0.62 darkness, which a block seen through 36 % stray light
+    would show too. The contact is graded, so the error bar reaches down to full contact
+    without stray light, where the truth (the drawn coverage, full contact 0.97) lies;
+    read at 0.62 the area is 1.33 times the truth."""
+    rng = np.random.default_rng(5)
+
+    def frame(col: int | None) -> tuple[np.ndarray, float]:
+        d = _noise(rng, 0.01) + 0.01
+        if col is None:
+            return d, 0.0
+        share = 0.1 + 0.8 * np.exp(-np.arange(60) / 4.0)  # the front on the left
+        cov = np.where(rng.random((40, 60)) < share, 0.45, 0.0).astype(np.float32)
+        for r, c in ((5, 15), (20, 30), (30, 50)):
+            cov[r:r + 5, c:c + 5] = 0.64
+        d[50:90, col:col + 60] += 0.97 * cov
+        return d, float(cov.sum())
+
+    samples = [frame(None)[0]] + [frame(c)[0] for c in (10, 40, 70, 100)]
+    m = area_model(samples, _sigma_map(0.01))
+    assert m.contact_source == "measured" and m.contact_darkness < 0.7
+    assert m.graded and m.contact_high == 1.0
+    d, true = frame(70)
+    a = frame_area(d, m, (slice(39, 101), slice(59, 141)))
+    assert a.area_px / true > 1.2  # read at 0.62 (the clusters counted whole)
+    assert a.low_px <= true <= a.high_px

@@ -268,6 +268,8 @@ class AreaModel:
                 "reach": round(self.seed_median, r),
                 "reach_source": "measured" if self.reach_measured else "gaussian",
                 "n_pixels": self.n_free,
+                "mean_away_from_contact": (round(self.field_offset, r)
+                                           if math.isfinite(self.field_offset) else None),
             },
             "contact": {
                 "darkness": round(self.contact_darkness, r),
@@ -720,10 +722,32 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                       int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
                       *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
                       weak_plateau=weak, reach_measured=measured)
-    # no resolved contact: whatever contact there is lies below the pixel, graded
-    graded = n_full < MIN_FULL_PX or graded_contact(samples, threshold, model.free_level())
-    return replace(model, graded=graded,
-                   field_offset=_free_mean(few, sigma_free * math.sqrt(corr)))
+    return _graded_model(model, samples, few)
+
+
+def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndarray]
+                  ) -> AreaModel:
+    """`model` with whether its contact is graded (none resolved: whatever contact there is
+    lies below the pixel; else :func:`tir_contact.graded.graded_contact`) and the free
+    surface's mean away from contact (:func:`_free_mean`).
+
+    A graded contact's few plateaus may be its densest clusters of junctions, not full
+    contact: where full contact's darkness was measured on them below the range of full
+    contact without stray light (:data:`ASSUMED_FULL_RANGE`), its range reaches up to
+    that range's top, and the error bar's low end with it."""
+    graded = (model.n_full_px < MIN_FULL_PX
+              or graded_contact(samples, model.threshold, model.free_level()))
+    high, notes = model.contact_high, model.notes
+    if graded and model.contact_source == "measured" and not model.weak_plateau \
+            and model.contact_darkness < ASSUMED_FULL_RANGE[0]:
+        high = max(high, ASSUMED_FULL_RANGE[1])
+        notes = [*notes, (
+            f"full contact's darkness ({model.contact_darkness:.3f}) is read on "
+            f"{model.n_full_px} px of a field of junctions: full contact seen through stray "
+            "light, or the field's densest clusters; the error bar reaches down to full "
+            f"contact at {high:g}; give --contrast if you know which")]
+    return replace(model, graded=graded, contact_high=high, notes=notes,
+                   field_offset=_free_mean(few, model.sigma_free * math.sqrt(model.corr_px)))
 
 
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
