@@ -210,7 +210,7 @@ class AreaModel:
         Mean darkness of the free surface away from any contact (:func:`_free_mean`): the
         level a junction field's box, every pixel of it summed, is read against (its
         noise's skew, from 8-bit steps and JPEG, puts the mean above the median ``b``);
-        NaN: not known, ``b`` is used.
+        NaN: not known, or not a junction field (resolved contact in the sampled frames).
     graded : bool
         The contact is graded: a field of junctions below the pixel that reaches half of
         full contact only in the dense band at each face's front
@@ -343,8 +343,7 @@ def _free_mean(samples: list[np.ndarray], sigma_px: float) -> float:
         level = float(np.percentile(mean[ok], 25.0)) + 5.0 * sigma_px / t
         lifted = (mean > level) | ~ok
         free = ~cv2.dilate(lifted.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
-        keep = np.repeat(np.repeat(free, t, axis=0), t, axis=1) & np.isfinite(d[:h, :w])
-        parts.append(d[:h, :w][keep])
+        parts.append(sub[finite & free[:, None, :, None]])
     values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
     return float(np.mean(values, dtype=np.float64)) if values.size >= 100 else math.nan
 
@@ -746,8 +745,10 @@ def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndar
             f"{model.n_full_px} px of a field of junctions: full contact seen through stray "
             "light, or the field's densest clusters; the error bar reaches down to full "
             f"contact at {high:g}; give --contrast if you know which")]
-    return replace(model, graded=graded, contact_high=high, notes=notes,
-                   field_offset=_free_mean(few, model.sigma_free * math.sqrt(model.corr_px)))
+    # the free surface's mean: read against by a junction field's box only
+    offset = (_free_mean(few, model.sigma_free * math.sqrt(model.corr_px))
+              if model.n_full_px < MIN_FULL_PX else math.nan)
+    return replace(model, graded=graded, contact_high=high, notes=notes, field_offset=offset)
 
 
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
