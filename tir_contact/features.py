@@ -622,7 +622,7 @@ class _Run:
 
     front_px: float  # leading edge of its first run
     length_px: float  # summed length of its runs
-    area_px: int  # contact pixels of its runs
+    area_px: float  # contact pixels of its runs (graded contact: unmixed area)
     c0: int  # first run's first column
     c1: int  # first run's last column (inclusive)
     front_clipped: bool  # the first run starts at the view's border (image or lit zone)
@@ -820,6 +820,10 @@ def tir_frame_records(
         raise ValueError(f"valid must have the shape of d {d.shape}, got {valid.shape}")
     if not (math.isfinite(peak_window_mm) and peak_window_mm > 0):
         raise ValueError(f"peak_window_mm must be > 0, got {peak_window_mm=}")
+    if free is not None and not (all(math.isfinite(x) for x in free) and free.sigma_px >= 0
+                                 and free.full > free.offset):
+        raise ValueError("free must hold finite darkness levels, sigma_px >= 0 and full "
+                         f"contact darker than the free surface, got {free!r}")
     frame, rows = frame_rows(d, contact, layout, valid, time_s, peak_window_mm, free=free)
     return frame, element_records(rows)
 
@@ -915,7 +919,7 @@ def _mirrored_profiles(
 
 def _element_runs(
     pieces: list[_Piece],
-    areas: list[int],
+    areas: list[float],
     p: list[float],
     n_cols: int,
     view: tuple[int, int],
@@ -998,7 +1002,7 @@ def _element_rows(
 
 
 def _contact_ratio(
-    total_px: int,
+    total_px: float,
     x0: float,
     layout: BlockLayout,
     span: tuple[int, int, int, int],
@@ -1038,11 +1042,12 @@ def _block_values(frame: dict[str, float | int | bool], rows: list[ElementRow]) 
 
 
 def graded_back_px(layout: BlockLayout) -> int:
-    """Columns behind the contact that graded contact is sought in: the longest element
-    (0 without the geometry)."""
+    """Columns either side of the half-coverage contact that graded contact is sought in:
+    the longest element and a sipe (0 without the geometry)."""
     if layout.element_lengths_mm is None:
         return 0
-    return math.ceil(max(layout.element_lengths_mm) / layout.mm_per_px)
+    return math.ceil((max(layout.element_lengths_mm) + layout.sipe_width_mm)
+                     / layout.mm_per_px)
 
 
 def _graded_profiles(
@@ -1058,17 +1063,22 @@ def _graded_profiles(
     no column holds contact.
 
     The rows and columns are the contact's, its columns widened by :data:`EDGE_MARGIN_PX`
-    and towards the back by the longest element (:func:`graded_back_px`: the last face's
-    faint back lies past the last column that reaches half coverage, at its front), and to
-    the box where given (a junction field's faint contact: faces that reach half coverage
-    nowhere), the box's alone without half-coverage contact.
+    and the longest element and a sipe (:func:`graded_back_px`: the last face's faint back
+    lies past the last column that reaches half coverage, at its front, and a face leaving
+    the view ahead of the first), and to the box where given (a junction field's faint contact:
+    faces that reach half coverage nowhere), the box's alone without half-coverage
+    contact. A column without a measured pixel is taken at the free surface's level.
+
+    Returns ``(span, p, (starts, ends, level, column_px))``.
     """
     n_cols = d.shape[1]
     flip = layout.sliding_direction == "right"
     if span is not None:
         r0, r1, c_lo, c_hi = span
+        # a face's faint back lies past its front band, a leaving face's ahead of the
+        # first band in view
         back = graded_back_px(layout)
-        c_lo, c_hi = (c_lo - back, c_hi) if flip else (c_lo, c_hi + back)
+        c_lo, c_hi = c_lo - back, c_hi + back
         if box is not None:  # faces that reach half coverage nowhere
             c_lo, c_hi = min(c_lo, box[1].start), max(c_hi, box[1].stop)
     elif box is not None:
@@ -1077,6 +1087,9 @@ def _graded_profiles(
         return None
     a, b = max(c_lo - EDGE_MARGIN_PX, 0), min(c_hi + EDGE_MARGIN_PX, n_cols)
     prof = _column_mean(d, r0, r1, a, b, sums)
+    unmeasured = ~np.isfinite(d[r0:r1, a:b]).any(axis=0)
+    if unmeasured.any():  # no pixel measured (the mean reads 0): the free surface's level
+        prof[unmeasured] = free.offset
     if flip:
         prof, a, b = prof[::-1], n_cols - b, n_cols - a
     runs = graded_runs(prof, r1 - r0, free)
@@ -1107,7 +1120,8 @@ def frame_rows(
     A batch builds one record array at the end (:func:`element_records`) instead of one per
     frame. `sums`: column sums of `d` already taken (see :func:`_column_mean`);
     `valid_counts`: the video's cache of valid-pixel counts. `free`: the free surface's
-    darkness and noise where contact is graded (:mod:`tir_contact.graded`); `faint_box`: where
+    darkness and noise where contact is graded (:mod:`tir_contact.graded`; a frame where
+    no column clears its presence level falls back to the half-coverage runs); `faint_box`: where
     a junction field's faint contact lies, sought there when no pixel reaches half
     coverage.
     """
@@ -1151,6 +1165,8 @@ def frame_rows(
         bounds.append((a.c1 + 1 + b.c0) // 2)
     areas = np.add.reduceat(counts, bounds,
                             dtype=np.int64 if graded is None else np.float64).tolist()
+    if graded is not None:  # a face's noise may sum below zero
+        areas = [max(x, 0.0) for x in areas]
     total = sum(areas)  # the pieces' areas partition the columns
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
@@ -1197,7 +1213,11 @@ def tir_frame_features(
         and the analysis gives this where it is): the free surface's darkness and noise
         and full contact's darkness. The runs are then the columns that hold contact
         (:mod:`tir_contact.graded`); without it the half-coverage runs (module notes,
-        step 1).
+        step 1). Used with the block's geometry only; graded contact is sought round the
+        half-coverage contact (a frame without any reads as no contact here; the analysis
+        also seeks a junction field where its seeds place it). Each element's area is its
+        unmixed darkness against ``free.full``: where that was read on dense clusters of
+        junctions rather than full contact, the areas are that much too high.
 
     Returns
     -------

@@ -3,11 +3,11 @@
 A tread block's face of rough rubber on ice is not a plateau of full darkness. Real
 contact covers a few to about 30 % of it, in junctions smaller than a pixel, densest at the
 front edge where the pressure peaks and thinning towards the back. The half-coverage runs of
-:mod:`tir_contact.features` (step 1: columns where more than half of the most contact
-pixels lie) then hold only the dark front of each face: the faces' contact lengths read a
-tenth to a half of the truth, and a template fitted to one-pixel runs numbers the elements
-wrongly (a physical G3 block at 13 % real contact: four faces of 4.3 mm in contact, one
-run of 1.1 mm found and given to the last element).
+:mod:`tir_contact.features` (step 1: columns holding at least half as many contact pixels
+as the column holding the most) then hold only the dark front of each face: the faces'
+contact lengths read a tenth to a half of the truth, and a template fitted to one-pixel
+runs numbers the elements wrongly (a physical G3 block at 13 % real contact: four faces
+of 4.3 mm in contact, one run of 1.1 mm found and given to the last element).
 
 Model of a column (the contact's ``R`` rows): where no contact lies, its mean darkness is
 the free surface's, ``b``, with noise ``s / sqrt(R)``, ``s`` one pixel's noise over its
@@ -154,6 +154,8 @@ def graded_share(d: np.ndarray, threshold: float, free: FreeLevel) -> float | No
     0.15
     """
     d = np.asarray(d, np.float32)
+    if d.size == 0:
+        return None
     with np.errstate(invalid="ignore"):
         half = (d >= threshold).view(np.uint8)
     counts = cv2.reduce(half, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()

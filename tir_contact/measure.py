@@ -210,7 +210,7 @@ class AreaModel:
         Mean darkness of the free surface away from any contact (:func:`_free_mean`): the
         level a junction field's box, every pixel of it summed, is read against (its
         noise's skew, from 8-bit steps and JPEG, puts the mean above the median ``b``);
-        NaN: not known, or not a junction field (resolved contact in the sampled frames).
+        NaN: not known, or the contact is not graded (the only readings that use it).
     graded : bool
         The contact is graded: a field of junctions below the pixel that reaches half of
         full contact only in the dense band at each face's front
@@ -250,11 +250,14 @@ class AreaModel:
 
     def free_level(self) -> FreeLevel:
         """The presence test's levels of graded contact (:mod:`tir_contact.graded`): the
-        free surface's darkness and one pixel's noise over the correlation area (a static
-        scene's whole spread, its dust and texture staying in its free surface), and full
-        contact's darkness."""
+        free surface's darkness (its mean away from contact where known, else its median
+        ``b``) and one pixel's noise over the correlation area (a static scene's whole
+        spread, its dust and texture staying in its free surface), and full contact's
+        darkness."""
         sigma = max(self.sd_free, self.sigma_free) if self.static else self.sigma_free
-        return FreeLevel(self.offset, sigma * math.sqrt(self.corr_px), self.contact_darkness)
+        # a column's mean follows the free surface's mean, not its median
+        offset = self.field_offset if math.isfinite(self.field_offset) else self.offset
+        return FreeLevel(offset, sigma * math.sqrt(self.corr_px), self.contact_darkness)
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -745,9 +748,10 @@ def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndar
             f"{model.n_full_px} px of a field of junctions: full contact seen through stray "
             "light, or the field's densest clusters; the error bar reaches down to full "
             f"contact at {high:g}; give --contrast if you know which")]
-    # the free surface's mean: read against by a junction field's box only
+    # the free surface's mean: read against by a junction field's box and by graded
+    # contact's columns (their means)
     offset = (_free_mean(few, model.sigma_free * math.sqrt(model.corr_px))
-              if model.n_full_px < MIN_FULL_PX else math.nan)
+              if graded else math.nan)
     return replace(model, graded=graded, contact_high=high, notes=notes, field_offset=offset)
 
 
@@ -971,6 +975,7 @@ def _over_local_free(d: np.ndarray, finite: np.ndarray, b: float) -> np.ndarray:
                                         borderType=cv2.BORDER_REPLICATE), bf)
     return np.where(finite, d - local + bf, np.float32(np.nan)).astype(np.float32,
                                                                          copy=False)
+
 
 def _unmixed_part(u: np.ndarray, edge: np.ndarray, zone: np.ndarray, zone_un: np.ndarray,
                   finite: np.ndarray, model: AreaModel, *, field: bool

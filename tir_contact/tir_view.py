@@ -215,9 +215,9 @@ class TirFrames:
         # a junction field (no resolved contact in the sampled frames): its faint contact
         # is sought where the seeds place it, also where no pixel reaches half coverage
         self._field = model is not None and model.n_full_px < MIN_FULL_PX
-        # graded contact's faces reach past the half-coverage box towards the back
-        back = graded_back_px(setup.layout) if self._free is not None else 0
-        self._widen = (back, 0) if setup.layout.sliding_direction == "right" else (0, back)
+        # graded contact's faces reach past the half-coverage box: a face's faint back
+        # behind its front band, a leaving face's back ahead of the first band in view
+        self._widen = graded_back_px(setup.layout) if self._free is not None else 0
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, FrameContact, tuple | None]:
         """Steps 1 to 3: the darkness (in the box, NaN elsewhere), the contact, and the
@@ -238,9 +238,12 @@ class TirFrames:
             return d, FrameContact(raw.shape, threshold, 0, d), None
         # the rows and (widened) columns the features read
         rows = box[0]
-        cols = slice(max(box[1].start - EDGE_MARGIN_PX - self._widen[0], 0),
-                     min(box[1].stop + EDGE_MARGIN_PX + self._widen[1], raw.shape[1]))
-        d = self._box.fill(frame, *(area_box or (rows, cols)))
+        cols = slice(max(box[1].start - EDGE_MARGIN_PX - self._widen, 0),
+                     min(box[1].stop + EDGE_MARGIN_PX + self._widen, raw.shape[1]))
+        # the darkness in the area's box (read alone by the area) and the features' columns
+        fill = (area_box or (rows, cols)) if not self._widen else _union(
+            area_box, (rows, cols), frame.shape, 0)
+        d = self._box.fill(frame, *fill)
         # the features' column sums, while the darkness is still in the cache
         sums = (rows.start, rows.stop, cols.start, cv2.reduce(
             d[rows, cols], 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel())
