@@ -128,6 +128,7 @@ import pandas as pd
 
 from friction_model.geometry import BlockGeometry
 from tir_common.validate import check_positive
+from tir_contact._columns import ColumnSums, column_mean
 from tir_contact.graded import FreeLevel, graded_runs
 from tir_contact.segment import FrameContact
 
@@ -392,38 +393,6 @@ class FrameFeatures:
 
 
 # -- profiles ---------------------------------------------------------------------------------
-#: Column sums of the darkness known beforehand: (r0, r1, c0, sums of rows r0..r1-1 for
-#: columns c0, c0 + 1, ...), as OpenCV's reduction gives them (each column on its own).
-ColumnSums = tuple[int, int, int, np.ndarray]
-
-
-def _column_mean(d: np.ndarray, r0: int, r1: int, c0: int, c1: int,
-                 sums: ColumnSums | None = None) -> np.ndarray:
-    """Mean of `d` over rows r0..r1-1 for columns c0..c1-1, ignoring NaN.
-
-    `sums`, when it covers these rows and columns, spares the summation (the sums of the
-    fast path, taken while the darkness was still in the cache).
-    """
-    sub = d[r0:r1, c0:c1]
-    if sub.dtype != np.float32:
-        sub = sub.astype(np.float32)
-    if (sums is not None and sums[0] == r0 and sums[1] == r1 and sums[2] <= c0
-            and c1 - sums[2] <= sums[3].size and sums[3].dtype == np.float32):
-        total = sums[3][c0 - sums[2] : c1 - sums[2]]
-    else:
-        total = cv2.reduce(sub, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel()
-    out = total / np.float32(r1 - r0)
-    if math.isfinite(np.add.reduce(out)):  # every column finite (one sum, not a mask)
-        return out
-    bad = ~np.isfinite(out)
-    if bad.any():  # columns with excluded pixels: mean over the finite ones
-        cols = np.flatnonzero(bad)
-        block = sub[:, cols]
-        cnt = np.isfinite(block).sum(axis=0)
-        out[cols] = np.nansum(block, axis=0) / np.maximum(cnt, 1)
-    return out
-
-
 def _tight_box(box: tuple[slice, slice] | None, counts: np.ndarray,
                row_counts: np.ndarray) -> tuple[int, int, int, int] | None:
     """(r0, r1, c0, c1) of `box` when its first and last rows and columns hold contact.
@@ -889,6 +858,18 @@ def _frame_without_geometry(
     return frame
 
 
+def _mirrored_band(d: np.ndarray, r0: int, r1: int, c_lo: int, c_hi: int, flip: bool,
+                   sums: ColumnSums | None, fill: float = 0.0
+                   ) -> tuple[np.ndarray, int, int]:
+    """The mean darkness of rows r0..r1-1 over columns c_lo..c_hi-1 widened by
+    :data:`EDGE_MARGIN_PX` (`fill` where a column has no measured pixel), in the mirrored
+    frame, with its first and end column there."""
+    n_cols = d.shape[1]
+    a, b = max(c_lo - EDGE_MARGIN_PX, 0), min(c_hi + EDGE_MARGIN_PX, n_cols)
+    prof = column_mean(d, r0, r1, a, b, sums, fill)
+    return (prof[::-1], n_cols - b, n_cols - a) if flip else (prof, a, b)
+
+
 def _mirrored_profiles(
     d: np.ndarray,
     counts: np.ndarray,
@@ -903,14 +884,11 @@ def _mirrored_profiles(
     """
     r0, r1, c_lo, c_hi = span
     n_cols = d.shape[1]
-    a, b = max(c_lo - EDGE_MARGIN_PX, 0), min(c_hi + EDGE_MARGIN_PX, n_cols)
-    prof = _column_mean(d, r0, r1, a, b, sums)
+    prof, a, b = _mirrored_band(d, r0, r1, c_lo, c_hi, flip, sums)
     p = [0.0] * n_cols
+    p[a:b] = prof.tolist()
     starts, ends = _half_runs(counts, c_lo, c_hi)
-    if not flip:
-        p[a:b] = prof.tolist()
-    else:
-        p[n_cols - b : n_cols - a] = prof[::-1].tolist()
+    if flip:
         counts = counts[::-1]
         last = n_cols - 1
         starts, ends = [last - c for c in reversed(ends)], [last - c for c in reversed(starts)]
@@ -1085,20 +1063,14 @@ def _graded_profiles(
         r0, r1, c_lo, c_hi = box[0].start, box[0].stop, box[1].start, box[1].stop
     else:
         return None
-    a, b = max(c_lo - EDGE_MARGIN_PX, 0), min(c_hi + EDGE_MARGIN_PX, n_cols)
-    prof = _column_mean(d, r0, r1, a, b, sums)
-    unmeasured = ~np.isfinite(d[r0:r1, a:b]).any(axis=0)
-    if unmeasured.any():  # no pixel measured (the mean reads 0): the free surface's level
-        prof[unmeasured] = free.offset
-    if flip:
-        prof, a, b = prof[::-1], n_cols - b, n_cols - a
+    prof, a, b = _mirrored_band(d, r0, r1, c_lo, c_hi, flip, sums, free.offset)
     runs = graded_runs(prof, r1 - r0, free)
     if runs is None:
         return None
     column_px = np.zeros(n_cols)
     column_px[a:b] = runs.column_px
     p = [0.0] * n_cols
-    p[a:b] = np.nan_to_num(prof, nan=free.offset).tolist()
+    p[a:b] = prof.tolist()
     return ((r0, r1, max(c_lo, 0), min(c_hi, n_cols)), p,
             ([s + a for s in runs.starts], [e + a for e in runs.ends], runs.level, column_px))
 
@@ -1118,12 +1090,12 @@ def frame_rows(
     """:func:`tir_frame_records` without the checks, the elements as :class:`ElementRow`.
 
     A batch builds one record array at the end (:func:`element_records`) instead of one per
-    frame. `sums`: column sums of `d` already taken (see :func:`_column_mean`);
-    `valid_counts`: the video's cache of valid-pixel counts. `free`: the free surface's
-    darkness and noise where contact is graded (:mod:`tir_contact.graded`; a frame where
-    no column clears its presence level falls back to the half-coverage runs); `faint_box`: where
-    a junction field's faint contact lies, sought there when no pixel reaches half
-    coverage.
+    frame. `sums`: column sums of `d` already taken (see
+    :func:`tir_contact._columns.column_mean`); `valid_counts`: the video's cache of
+    valid-pixel counts. `free`: the free surface's darkness and noise where contact is
+    graded (:mod:`tir_contact.graded`; a frame where no column clears its presence level
+    falls back to the half-coverage runs); `faint_box`: where a junction field's faint
+    contact lies, sought there when no pixel reaches half coverage.
     """
     px = layout.mm_per_px
     n_cols = d.shape[1]

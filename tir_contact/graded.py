@@ -37,6 +37,8 @@ from typing import NamedTuple
 import cv2
 import numpy as np
 
+from tir_contact._columns import column_mean
+
 __all__ = ["GRADED_SHARE", "MIN_RUN_PX", "PRESENCE_Z", "FreeLevel", "GradedRuns",
            "graded_contact", "graded_runs", "graded_share", "presence_runs"]
 
@@ -164,13 +166,7 @@ def graded_share(d: np.ndarray, threshold: float, free: FreeLevel) -> float | No
         return None
     rows = np.flatnonzero(cv2.reduce(half, 1, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel())
     r0, r1 = int(rows[0]), int(rows[-1]) + 1
-    sub = d[r0:r1]
-    p = cv2.reduce(sub, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel() / np.float32(r1 - r0)
-    bad = np.flatnonzero(~np.isfinite(p))
-    if bad.size:  # columns with unmeasured pixels: the mean of the measured ones
-        block = sub[:, bad]
-        n = np.count_nonzero(np.isfinite(block), axis=0)
-        p[bad] = np.where(n > 0, np.nansum(block, axis=0) / np.maximum(n, 1), free.offset)
+    p = column_mean(d, r0, r1, 0, d.shape[1], fill=free.offset)
     on = counts >= (top + 1) // 2  # the half-coverage runs' rule (tir_contact.features)
     starts, ends = presence_runs(p, free.level(r1 - r0), 1)
     held = [e - s + 1 for s, e in zip(starts, ends, strict=True) if on[s:e + 1].any()]

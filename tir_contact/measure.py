@@ -248,6 +248,18 @@ class AreaModel:
     graded: bool = False
     field_offset: float = math.nan
 
+    @property
+    def junction_field(self) -> bool:
+        """No contact in the sampled frames is resolved (under :data:`MIN_FULL_PX` interior
+        pixels): whatever contact there is, is a field of junctions below the pixel."""
+        return self.n_full_px < MIN_FULL_PX
+
+    @property
+    def free_mean(self) -> float:
+        """The level summed free pixels are read against: the free surface's mean away from
+        contact where known (``field_offset``), else its median ``b``."""
+        return self.field_offset if math.isfinite(self.field_offset) else self.offset
+
     def free_level(self) -> FreeLevel:
         """The presence test's levels of graded contact (:mod:`tir_contact.graded`): the
         free surface's darkness (its mean away from contact where known, else its median
@@ -256,8 +268,8 @@ class AreaModel:
         darkness."""
         sigma = max(self.sd_free, self.sigma_free) if self.static else self.sigma_free
         # a column's mean follows the free surface's mean, not its median
-        offset = self.field_offset if math.isfinite(self.field_offset) else self.offset
-        return FreeLevel(offset, sigma * math.sqrt(self.corr_px), self.contact_darkness)
+        return FreeLevel(self.free_mean, sigma * math.sqrt(self.corr_px),
+                         self.contact_darkness)
 
     def summary(self) -> dict[str, object]:
         """The populations as ``summary.json`` records them."""
@@ -737,7 +749,7 @@ def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndar
     contact: where full contact's darkness was measured on them below the range of full
     contact without stray light (:data:`ASSUMED_FULL_RANGE`), its range reaches up to
     that range's top, and the error bar's low end with it."""
-    graded = (model.n_full_px < MIN_FULL_PX
+    graded = (model.junction_field
               or graded_contact(samples, model.threshold, model.free_level()))
     high, notes = model.contact_high, model.notes
     if graded and model.contact_source == "measured" and not model.weak_plateau \
@@ -845,7 +857,7 @@ def _shows_contact(model: AreaModel) -> bool:
     interior pixels at least; a given contrast does not make it so): its free surface
     keeps the ice's dust, bubbles and scratches dark, and the resolved contact shows where
     contact is."""
-    return model.static and model.n_full_px >= MIN_FULL_PX
+    return model.static and not model.junction_field
 
 
 def _envelope(seeds: np.ndarray) -> np.ndarray:
@@ -989,9 +1001,8 @@ def _unmixed_part(u: np.ndarray, edge: np.ndarray, zone: np.ndarray, zone_un: np
     beyond them: module notes), read against the free surface's mean
     (``model.field_offset``): free pixels summed, not chosen for being dark.
     """
-    if field and model.n_full_px < MIN_FULL_PX:
-        level = model.field_offset if math.isfinite(model.field_offset) else model.offset
-        return ~edge & finite, 0.0, level
+    if field and model.junction_field:
+        return ~edge & finite, 0.0, model.free_mean
     ring = cv2.dilate(zone.view(np.uint8), _EDGE).view(np.bool_) & ~zone & finite
     missed = max(float(np.sum(u[ring] - model.offset, dtype=np.float64)), 0.0)
     return zone_un, missed / model.contact_darkness, model.offset
@@ -1073,7 +1084,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     t_hi = max(0.75 * c, model.threshold)
     part_res, res_hi = _resolved_area(d, resolved, zone_res, b, c, t_lo)
     excess_un = float(np.sum(u[sum_un] - b_un, dtype=np.float64))
-    n_z = int(np.count_nonzero(zone_res)) + int(np.count_nonzero(sum_un))
+    n_un = int(np.count_nonzero(sum_un))
+    n_z = int(np.count_nonzero(zone_res)) + n_un
     with np.errstate(invalid="ignore"):
         res_lo = int(np.count_nonzero(resolved & (d >= t_hi)))
     # the unresolved part over c's range; both parts' noise: the free surface's fluctuation
@@ -1106,7 +1118,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     high = (max(part_res, res_hi) + high_un / max(model.contact_low, 1e-6) + missed
             + BAND_SIGMAS * sd)
     # a junction field read against the free surface's mean: the median's reading too
-    shift = (b_un - b) * float(np.count_nonzero(sum_un)) / c
+    shift = (b_un - b) * n_un / c
     low, high = low - max(-shift, 0.0), high + max(shift, 0.0)
     if model.rim is not None:  # contact in the rim band may go on past the found edge
         high += _past_rim(zone, model, box)

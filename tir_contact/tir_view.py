@@ -37,15 +37,7 @@ from tir_contact._readers import FootageError
 from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows, graded_back_px
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, lit_zone_from_file
-from tir_contact.measure import (
-    EDGE_PX,
-    MIN_FULL_PX,
-    ZONE_PX,
-    AreaModel,
-    FrameArea,
-    area_model,
-    frame_area,
-)
+from tir_contact.measure import EDGE_PX, ZONE_PX, AreaModel, FrameArea, area_model, frame_area
 from tir_contact.options import AnalysisOptions
 from tir_contact.overlay import draw_tir_overlay
 from tir_contact.reference import TirReference, measurable, tir_reference
@@ -214,7 +206,7 @@ class TirFrames:
         self._free = model.free_level() if model is not None and model.graded else None
         # a junction field (no resolved contact in the sampled frames): its faint contact
         # is sought where the seeds place it, also where no pixel reaches half coverage
-        self._field = model is not None and model.n_full_px < MIN_FULL_PX
+        self._field = model is not None and model.junction_field
         # graded contact's faces reach past the half-coverage box: a face's faint back
         # behind its front band, a leaving face's back ahead of the first band in view
         self._widen = graded_back_px(setup.layout) if self._free is not None else 0
@@ -240,10 +232,9 @@ class TirFrames:
         rows = box[0]
         cols = slice(max(box[1].start - EDGE_MARGIN_PX - self._widen, 0),
                      min(box[1].stop + EDGE_MARGIN_PX + self._widen, raw.shape[1]))
-        # the darkness in the area's box (read alone by the area) and the features' columns
-        fill = (area_box or (rows, cols)) if not self._widen else _union(
-            area_box, (rows, cols), frame.shape, 0)
-        d = self._box.fill(frame, *fill)
+        # the darkness in the area's box (read alone by the area; it holds the features'
+        # columns unless graded contact widened them) and the features' columns
+        d = self._box.fill(frame, *_union(area_box, (rows, cols), frame.shape, 0))
         # the features' column sums, while the darkness is still in the cache
         sums = (rows.start, rows.stop, cols.start, cv2.reduce(
             d[rows, cols], 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F).ravel())
