@@ -152,15 +152,34 @@ class TirView:
                                 label=label, lit=self.tir.lit.mask)
 
     def warnings(self, frames: Any) -> list[str]:
-        """Contact at the lit zone's rim, where part of it may not be seen."""
+        """Contact at the lit zone's rim, where part of it may not be seen; a scene where
+        nothing moves and no contact is resolved, whose contact may fill the lit zone."""
         if not len(frames):
             return []
+        out = []
         at_rim = int((frames["contact_at_lit_rim"] == True).sum())  # noqa: E712 (NaN: no)
-        if not at_rim:
-            return []
-        return [f"contact touches the rim of the lit zone in {at_rim} of {len(frames)} "
-                "frames: part of it may lie where too little light reaches to see it "
-                "(lit_mask.png; --lit-mask to give the zone)"]
+        if at_rim:
+            out.append(f"contact touches the rim of the lit zone in {at_rim} of "
+                       f"{len(frames)} frames: part of it may lie where too little light "
+                       "reaches to see it (lit_mask.png; --lit-mask to give the zone)")
+        if self._may_fill_zone():
+            out.append(
+                "nothing moves and no contact is resolved: a contact that fills the lit "
+                "zone found, or most of it, leaves no free surface at the lit level in view "
+                "and cannot be told from a dimly lit free surface or the unlit outside "
+                f"(lit zone found: {100 * self.tir.lit.fraction:.0f} % of the frame, "
+                "lit_mask.png); if such a contact is there, give an empty frame "
+                "(--reference) or the lit zone (--lit-mask)")
+        return out
+
+    def _may_fill_zone(self) -> bool:
+        """A static scene (camera ``follows``; an empty frame given with ``--reference``
+        makes it ``fixed``) with no resolved contact in the sampled frames, its lit zone
+        found in the footage: a contact over the whole lit zone shows no plateau of full
+        contact beside free surface either, and its light, a fraction of the free
+        surface's, is read as a dim free surface or as the outside."""
+        return (self.tir.camera == "follows" and self.tir.lit.method != "file"
+                and self.area_model is not None and self.area_model.junction_field)
 
     def images(self) -> dict[str, np.ndarray]:
         """``lit_mask.png``: white where TIR light reaches."""
