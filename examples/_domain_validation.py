@@ -97,13 +97,26 @@ def _block_truth(clip: Path) -> pd.Series:
     return truth[truth.element == -1].set_index("frame")["contact_area_mm2"]
 
 
-def validate_clip(spec: FootageSpec, case: str, index: int) -> dict:
-    """Render, analyse and compare one clip; the footage is deleted afterwards."""
+def validate_clip(spec: FootageSpec, case: str, index: int, reference: bool = False) -> dict:
+    """Render, analyse and compare one clip; the footage is deleted afterwards.
+
+    ``reference``: a static scene analysed with the rig's own empty frame
+    (:func:`synthetic.table.empty_reference`: the scene's light without the contact, 0.87x
+    exposure, shifted by a few px) as ``--reference``; the case gains ", empty frame".
+    """
     with _rendered(spec, "tir-validate-") as clip:
         lit_file = clip / "lit_mask.png"
         lit = (_OutsideLit(cv2.imread(str(lit_file), cv2.IMREAD_GRAYSCALE) > 0)
                if spec.view == "tir" and lit_file.exists() else None)
-        res = analyze_video(clip, options=OPTIONS, on_frame=lit)
+        options = OPTIONS
+        if reference:
+            from synthetic.table import empty_reference
+
+            ref = clip.parent / "empty.png"
+            cv2.imwrite(str(ref), empty_reference(spec))
+            options = dataclasses.replace(OPTIONS, reference=str(ref))
+            case = f"{case}, empty frame"
+        res = analyze_video(clip, options=options, on_frame=lit)
         truth = pd.read_csv(clip / "ground_truth.csv")
         row = {"clip": index, "case": case, "preset": spec.preset if spec.scene == "block"
                else spec.scene, "real_contact": spec.real_contact,

@@ -20,8 +20,11 @@ Three parts (each can be skipped):
    contact comes from the rough-contact solver, with frustrated-TIR grey levels,
    sub-pixel junctions, lens blur and texture; the sliding block with physical real
    contact), their own case classes in ``validation_physical.md``; the truth is the true
-   contact area (gap 0). No target yet: this is the world the segmentation is to be judged
-   on next.
+   contact area (gap 0). The static scenes among them (rough pads and spheres) are
+   analysed again with the rig's own empty frame as ``--reference``
+   (:func:`synthetic.table.empty_reference`; ``validation_physical_empty_frame.md``;
+   ``--no-empty-frame`` skips it): the free surface under the contact measured instead of
+   estimated from the image.
 2c. *Contact area as a measurement* (issue 21; written as ``validation_measurement.md``):
    for the physical classes and the domain, the area error's median and 95th percentile
    and the share of frames whose true area lies in the pipeline's error bar
@@ -148,6 +151,32 @@ def run_domain(n: int, seed: int, workers: int, out: Path, *, physical: bool = F
     summary.to_csv(out / f"{name}_summary.csv", index=False)
     title = "Physical world (rough contact, FTIR optics)" if physical else None
     (out / f"{name}.md").write_text(_markdown(summary, n, seed, title))
+    return summary
+
+
+def run_empty_frame(n: int, seed: int, workers: int, out: Path) -> pd.DataFrame | None:
+    """The static clips of the physical draws again, each with the rig's own empty frame
+    as ``--reference`` (``validation_physical_empty_frame*``; None without static clips).
+
+    The free surface under a static contact is then measured, not estimated from the image
+    (whose bubbles, scratches and dust under the contact nothing else tells from faint
+    contact): what recording an empty frame is worth.
+    """
+    specs = [(i, s, c) for i, (s, c) in enumerate(sample_physical_specs(n, seed=seed))
+             if s.is_static]
+    if not specs:
+        return None
+    with ProcessPoolExecutor(max(1, workers)) as pool:
+        rows = list(pool.map(validate_clip, [s for _, s, _ in specs], [c for _, _, c in specs],
+                             [i for i, _, _ in specs], [True] * len(specs)))
+    table = pd.DataFrame(rows)
+    name = "validation_physical_empty_frame"
+    table.to_csv(out / f"{name}.csv", index=False)
+    summary = summarise(table)
+    summary.loc[summary.case == "all", "case"] = "all static, empty frame"
+    summary.to_csv(out / f"{name}_summary.csv", index=False)
+    (out / f"{name}.md").write_text(_markdown(
+        summary, len(specs), seed, "Physical static scenes with the rig's empty frame"))
     return summary
 
 
@@ -331,6 +360,9 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=400)
     ap.add_argument("--table", action=argparse.BooleanOptionalAction, default=False,
                     help="the renders of issue 21's table (synthetic.table)")
+    ap.add_argument("--empty-frame", action=argparse.BooleanOptionalAction, default=True,
+                    help="the physical draws' static scenes again with the rig's own empty "
+                    "frame as --reference")
     ap.add_argument("--load-series", action=argparse.BooleanOptionalAction, default=True,
                     help="rough pad at 0.5/1/2/4 bar (needs the contact extra)")
     args = ap.parse_args()
@@ -352,6 +384,12 @@ def main() -> None:
         summary = summaries["physical"] = run_domain(args.physical, args.seed, args.workers,
                                                      args.out, physical=True)
         print(summary.round(3).to_string(index=False))
+        if args.empty_frame:
+            empty = run_empty_frame(args.physical, args.seed, args.workers, args.out)
+            if empty is not None:
+                summaries["physical, empty frame"] = empty
+                print("the same static scenes with the rig's empty frame (--reference):")
+                print(empty.round(3).to_string(index=False))
     _measurement(args, summaries)
     if args.ratio:
         table = run_ratio(args.out)

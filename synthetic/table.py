@@ -41,8 +41,9 @@ import math
 import cv2
 import numpy as np
 
+from synthetic._physical import PHYSICAL_SCENES
 from synthetic.domain import real_photo_specs
-from synthetic.footage import CameraSettings, FootageSpec, iter_frames
+from synthetic.footage import CameraSettings, FootageSpec, _Clip, iter_frames
 
 __all__ = [
     "FOLD_DEPTH",
@@ -122,14 +123,18 @@ def table_specs(seed: int = 0, *, n_frames: int = 6) -> dict[str, FootageSpec]:
 
 def empty_reference(spec: FootageSpec, *, exposure: float = REFERENCE_EXPOSURE,
                     shift_px: tuple[float, float] = REFERENCE_SHIFT_PX) -> np.ndarray:
-    """The rig's own empty frame of a three-point scene: the same light, ice, dust and seed
-    with the contacts out of view, at ``exposure`` times the white level, moved by
+    """The rig's own empty frame of a static scene: the same light, ice, dust, stray light
+    and seed without the contact, at ``exposure`` times the white level, moved by
     ``shift_px`` (x, y; bilinear, edges replicated), losslessly.
+
+    A three-point scene's contacts are moved out of view; a physical scene (``rough_pad``,
+    ``rough_sphere``) is its light before the contact's reflectance multiplies it (the
+    rubber lifted off: what a rig records before loading).
 
     Parameters
     ----------
     spec : FootageSpec
-        ``scene="three_point"``.
+        ``scene="three_point"``, ``"rough_pad"`` or ``"rough_sphere"``.
     exposure : float
         Exposure relative to the footage, in (0, 1 / white_level].
     shift_px : (float, float)
@@ -138,16 +143,29 @@ def empty_reference(spec: FootageSpec, *, exposure: float = REFERENCE_EXPOSURE,
     -------
     (H, W) ndarray of the clip's dtype
     """
-    if spec.scene != "three_point":
-        raise ValueError(f"scene must be 'three_point' for an empty reference (its contacts "
-                         f"are moved out of view), got scene={spec.scene!r}")
+    if spec.scene not in ("three_point", *PHYSICAL_SCENES):
+        raise ValueError(f"scene must be 'three_point', 'rough_pad' or 'rough_sphere' for "
+                         f"an empty reference, got scene={spec.scene!r}")
     level = spec.camera.white_level * exposure
     if not 0.0 < level <= 1.0:
         raise ValueError(f"exposure must keep white_level * exposure in (0, 1], got "
                          f"exposure={exposure!r} with white_level={spec.camera.white_level}")
     cam = dataclasses.replace(spec.camera, white_level=level, jpeg_quality=None)
-    empty = dataclasses.replace(spec, n_frames=1, camera=cam, point_positions_mm=_OUT_OF_VIEW)
-    image = next(iter(iter_frames(empty)))[1]
+    if spec.scene == "three_point":
+        empty = dataclasses.replace(spec, n_frames=1, camera=cam,
+                                    point_positions_mm=_OUT_OF_VIEW)
+        image = next(iter(iter_frames(empty)))[1]
+    else:
+        image = _without_contact(dataclasses.replace(spec, n_frames=1, camera=cam))
     m = np.float32([[1, 0, shift_px[0]], [0, 1, shift_px[1]]])
     return cv2.warpAffine(image, m, image.shape[::-1], flags=cv2.INTER_LINEAR,
                           borderMode=cv2.BORDER_REPLICATE)
+
+
+def _without_contact(spec: FootageSpec) -> np.ndarray:
+    """Frame 0 of a physical static scene with the contact's reflectance left out: its
+    light (lit zone, vignetting, ice, dust) through the same camera, noise seed and stray
+    light."""
+    clip = _Clip(spec)
+    clip.static = (clip.base.astype(np.float32), clip.static[1])
+    return clip.image(0)[0]

@@ -8,6 +8,7 @@ al., Appl. Opt. 25, 1986); Fresnel's formulas at contact.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 
@@ -439,3 +440,34 @@ def test_synth_rough_pad_load_series_from_the_command_line(run_cli, capsys, tmp_
     assert "rough_pad scene" in capsys.readouterr().out
     # twice the load, about twice the true area (A ~ p^0.9-1: 1.87-2.0)
     assert areas[1] / areas[0] == pytest.approx(2.0, rel=0.1)
+
+
+@needs_tamaas
+def test_empty_reference_of_a_physical_scene_is_its_light_without_the_rubber():
+    """The rig's empty frame of a rough pad (synthetic.table.empty_reference): the same
+    light, lower exposure, no contact. Against it the frame's darkness, summed over the
+    pad, is the scene's optical contact (the truth's own integration of each point's
+    darkness before the blur), and away from the pad the two differ by the exposure
+    alone."""
+    from synthetic.footage import iter_frames
+    from synthetic.table import empty_reference
+
+    spec = _pad_spec(2.0)
+    _, img, truth = next(iter_frames(spec))
+    ref = empty_reference(spec, exposure=0.87, shift_px=(0.0, 0.0)).astype(float)
+    free = ref * (1 / 0.87)
+    yy, xx = np.mgrid[: img.shape[0], : img.shape[1]]
+    c = (img.shape[0] - 1) / 2
+    away = np.hypot(yy - c, xx - c) > 0.6 / 0.01 + 5  # 5 px past the pad's rim
+    # 8-bit rounding of both images (free surface 204 and 177 grey values): the ratio is
+    # known to 0.5 / 204 + 0.5 / 177 (measured 1.0027: 177 / 0.87 = 203.4)
+    assert np.median(img[away] / free[away]) == pytest.approx(1.0, abs=0.0053)
+    full = 1.0 - float(spec.optics.reflectance(0.0))
+    dark = np.clip(1.0 - img / free, 0.0, None)[~away].sum() / full * 0.01**2
+    total = truth[truth["element"] == -1].iloc[0]
+    # measured 0.2 % low: the free pixels read 0.27 % bright (rounding, above) and are
+    # clipped at zero darkness, the junctions' darkness is read 0.27 % low; 2 % leaves the
+    # rest to the blur's tails past the pad's rim + 5 px and the solver's versions
+    assert dark == pytest.approx(total["optical_contact_area_mm2"], rel=0.02)
+    with pytest.raises(ValueError, match="scene"):
+        empty_reference(dataclasses.replace(spec, scene="round_pad"))
