@@ -25,7 +25,10 @@ generation fails (message on stderr), 2 for bad arguments.
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
+
+import cv2
 
 from tir_contact.commands._types import UsageError, output_folder, output_path
 from tir_contact.commands._types import finite_number as _number
@@ -167,6 +170,10 @@ def _add_footage(sub: Any) -> None:
     p.add_argument("--out", type=output_folder, required=True, metavar="DIR",
                    help="output folder")
     p.add_argument("--format", choices=_FORMATS, default="png", help="output format (default png)")
+    p.add_argument("--empty-frame", action="store_true",
+                   help="also write OUT/empty.png, the rig's own empty frame of a static scene "
+                   "(three_point, rough_pad, rough_sphere: the same light and ice without "
+                   "the contact), for 'analyze --reference'")
     cam = p.add_argument_group("camera (default: the renderer's)")
     cam.add_argument("--fps", type=_positive, metavar="HZ", help="frame rate, 1/s")
     cam.add_argument("--exposure", type=_positive, metavar="S", help="exposure time, s")
@@ -355,11 +362,26 @@ def _run_footage(args: argparse.Namespace) -> int:
         raise ImportError(f"the renderer synthetic.footage is not available ({exc})") from exc
     camera, spec_kwargs = footage_kwargs(args)
     spec = FootageSpec(**spec_kwargs, camera=CameraSettings(**camera))
+    if args.empty_frame and spec.scene not in EMPTY_FRAME_SCENES:
+        raise UsageError(f"--empty-frame needs a static scene ({', '.join(EMPTY_FRAME_SCENES)}), "
+                         f"got --scene {spec.scene}")
     fmt = "jpg" if args.jpeg_quality is not None else args.format
     path = render_footage(spec, args.out, fmt=fmt)
     what = args.preset if spec.scene == "block" else f"the {spec.scene} scene"
     print(f"footage: rendered {spec.n_frames} frames ({fmt}) of {what} to {path}")
+    if args.empty_frame:
+        from synthetic.table import empty_reference
+
+        empty = Path(path) / "empty.png"
+        # the same exposure and position as the footage, lossless (16-bit PNG above 8 bits)
+        if not cv2.imwrite(str(empty), empty_reference(spec, exposure=1.0, shift_px=(0.0, 0.0))):
+            raise OSError(f"{empty}: could not write the empty frame")
+        print(f"empty frame: {empty} (tir-contact analyze {path} --reference {empty})")
     return 0
+
+
+#: Scenes whose empty frame ``--empty-frame`` renders (:func:`synthetic.table.empty_reference`).
+EMPTY_FRAME_SCENES = ("three_point", "rough_pad", "rough_sphere")
 
 
 # -- measurements ----------------------------------------------------------------------------
