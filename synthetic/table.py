@@ -156,16 +156,17 @@ def empty_reference(spec: FootageSpec, *, exposure: float = REFERENCE_EXPOSURE,
                                     point_positions_mm=_OUT_OF_VIEW)
         image = next(iter(iter_frames(empty)))[1]
     else:
-        image = _without_contact(dataclasses.replace(spec, n_frames=1, camera=cam))
+        image = _without_contact(dataclasses.replace(spec, camera=cam))
     m = np.float32([[1, 0, shift_px[0]], [0, 1, shift_px[1]]])
     return cv2.warpAffine(image, m, image.shape[::-1], flags=cv2.INTER_LINEAR,
                           borderMode=cv2.BORDER_REPLICATE)
 
 
 def _without_contact(spec: FootageSpec) -> np.ndarray:
-    """Frame 0 of a physical static scene with the contact's reflectance left out: its
-    light (lit zone, vignetting, ice, dust) through the same camera, noise seed and stray
-    light."""
+    """A physical static scene's light with the contact's reflectance left out (lit zone,
+    vignetting, ice, dust, stray light) through the same camera, its noise drawn as for the
+    frame after the clip's last (a recording of its own, not a copy of any frame's
+    noise)."""
     clip = _Clip(spec)
     clip.static = (clip.base.astype(np.float32), clip.static[1])
-    return clip.image(0)[0]
+    return clip.image(spec.n_frames)[0]
