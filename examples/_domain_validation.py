@@ -48,6 +48,7 @@ import numpy as np
 import pandas as pd
 
 from synthetic.footage import CameraSettings, FootageSpec, render_footage
+from synthetic.table import empty_reference
 from tir_contact.analyze import AnalysisOptions, analyze_video
 
 OPTIONS = AnalysisOptions(overlay_frames=0, parquet=False, regions="never")
@@ -110,8 +111,6 @@ def validate_clip(spec: FootageSpec, case: str, index: int, reference: bool = Fa
                if spec.view == "tir" and lit_file.exists() else None)
         options = OPTIONS
         if reference:
-            from synthetic.table import empty_reference
-
             ref = clip.parent / "empty.png"
             cv2.imwrite(str(ref), empty_reference(spec))
             options = dataclasses.replace(OPTIONS, reference=str(ref))
@@ -231,8 +230,6 @@ def validate_table_clip(name: str, spec: FootageSpec, *, reference: bool = False
     Per clip: the mean true and measured area, the area error (as ``area_err_pct``), the
     frames whose truth lies in the error bar, the warnings.
     """
-    from synthetic.table import empty_reference
-
     with _rendered(spec, "tir-table-") as clip:
         options = OPTIONS
         if reference:

@@ -128,55 +128,45 @@ def compare_side(res, truth: pd.DataFrame) -> dict:
     }
 
 
-def run_domain(n: int, seed: int, workers: int, out: Path, *, physical: bool = False
-               ) -> pd.DataFrame:
+def run_domain(n: int, seed: int, workers: int, out: Path, *, physical: bool = False,
+               empty_frame: bool = False) -> pd.DataFrame | None:
     """Validate `n` random clips; writes the per-clip table and the summary.
 
     ``physical``: clips of the physical world (contact mechanics and optics, their own
     classes, written as ``validation_physical*``) instead of the real-footage domain.
+    ``empty_frame``: only the static clips among the draws, each with the rig's own empty
+    frame as ``--reference`` (``*_empty_frame*``; None without static clips): the free
+    surface under a static contact measured, not estimated from the image (whose bubbles,
+    scratches and dust under the contact nothing else tells from faint contact), what
+    recording an empty frame is worth.
     """
     specs = sample_physical_specs(n, seed=seed) if physical else sample_specs(n, seed=seed)
     name = "validation_physical" if physical else "validation_domain"
+    title = "Physical world (rough contact, FTIR optics)" if physical else None
+    draws = list(enumerate(specs))
+    if empty_frame:
+        draws = [(i, (s, c)) for i, (s, c) in draws if s.is_static]
+        if not draws:
+            return None
+        name += "_empty_frame"
+        title = f"{title or 'Static scenes'} with the rig's empty frame"
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max(1, workers)) as pool:
         rows = []
-        for i, row in enumerate(pool.map(validate_clip, [s for s, _ in specs],
-                                         [c for _, c in specs], range(n))):
+        for k, row in enumerate(pool.map(validate_clip, [s for _, (s, _) in draws],
+                                         [c for _, (_, c) in draws], [i for i, _ in draws],
+                                         [empty_frame] * len(draws))):
             rows.append(row)
-            if (i + 1) % 20 == 0:
-                print(f"  {i + 1}/{n} clips ({time.perf_counter() - t0:.0f} s)", flush=True)
+            if (k + 1) % 20 == 0:
+                print(f"  {k + 1}/{len(draws)} clips ({time.perf_counter() - t0:.0f} s)",
+                      flush=True)
     table = pd.DataFrame(rows)
     table.to_csv(out / f"{name}.csv", index=False)
     summary = summarise(table)
+    if empty_frame:
+        summary.loc[summary.case == "all", "case"] = "all static, empty frame"
     summary.to_csv(out / f"{name}_summary.csv", index=False)
-    title = "Physical world (rough contact, FTIR optics)" if physical else None
-    (out / f"{name}.md").write_text(_markdown(summary, n, seed, title))
-    return summary
-
-
-def run_empty_frame(n: int, seed: int, workers: int, out: Path) -> pd.DataFrame | None:
-    """The static clips of the physical draws again, each with the rig's own empty frame
-    as ``--reference`` (``validation_physical_empty_frame*``; None without static clips).
-
-    The free surface under a static contact is then measured, not estimated from the image
-    (whose bubbles, scratches and dust under the contact nothing else tells from faint
-    contact): what recording an empty frame is worth.
-    """
-    specs = [(i, s, c) for i, (s, c) in enumerate(sample_physical_specs(n, seed=seed))
-             if s.is_static]
-    if not specs:
-        return None
-    with ProcessPoolExecutor(max(1, workers)) as pool:
-        rows = list(pool.map(validate_clip, [s for _, s, _ in specs], [c for _, _, c in specs],
-                             [i for i, _, _ in specs], [True] * len(specs)))
-    table = pd.DataFrame(rows)
-    name = "validation_physical_empty_frame"
-    table.to_csv(out / f"{name}.csv", index=False)
-    summary = summarise(table)
-    summary.loc[summary.case == "all", "case"] = "all static, empty frame"
-    summary.to_csv(out / f"{name}_summary.csv", index=False)
-    (out / f"{name}.md").write_text(_markdown(
-        summary, len(specs), seed, "Physical static scenes with the rig's empty frame"))
+    (out / f"{name}.md").write_text(_markdown(summary, len(draws), seed, title))
     return summary
 
 
@@ -385,7 +375,8 @@ def main() -> None:
                                                      args.out, physical=True)
         print(summary.round(3).to_string(index=False))
         if args.empty_frame:
-            empty = run_empty_frame(args.physical, args.seed, args.workers, args.out)
+            empty = run_domain(args.physical, args.seed, args.workers, args.out,
+                               physical=True, empty_frame=True)
             if empty is not None:
                 summaries["physical, empty frame"] = empty
                 print("the same static scenes with the rig's empty frame (--reference):")

@@ -1420,7 +1420,9 @@ class _IceCanvas:
 class _Clip:
     """Everything static of one spec: model, path, scene; renders frame ``k`` on demand."""
 
-    def __init__(self, spec: FootageSpec) -> None:
+    def __init__(self, spec: FootageSpec, *, contact: bool = True) -> None:
+        """`contact`: False renders a static scene without its contact (its light alone:
+        the rig's empty frame, :func:`synthetic.table.empty_reference`)."""
         self.spec = spec
         self.extended = spec.uses_real_footage_fields
         self.columns = spec.truth_columns
@@ -1484,7 +1486,9 @@ class _Clip:
         self._frame_k = 0
         if spec.real_contact == "physical":
             self.phys_block = self._physical_block()
-        if spec.is_static:
+        if spec.is_static and not contact:
+            self.static = (self.base.astype(np.float32), [])
+        elif spec.is_static:
             self.static = self._render_physical() if spec.is_physical else self._render_static()
         self.sensor = Sensor(
             (cam.height_px, cam.width_px),

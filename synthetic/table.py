@@ -43,9 +43,10 @@ import numpy as np
 
 from synthetic._physical import PHYSICAL_SCENES
 from synthetic.domain import real_photo_specs
-from synthetic.footage import CameraSettings, FootageSpec, _Clip, iter_frames
+from synthetic.footage import CameraSettings, FootageSpec, _Clip
 
 __all__ = [
+    "EMPTY_REFERENCE_SCENES",
     "FOLD_DEPTH",
     "FOLD_EDGE_MM",
     "POINT_RADIUS_MM",
@@ -71,8 +72,9 @@ REFERENCE_EXPOSURE = 0.87
 REFERENCE_SHIFT_PX = (3.0, -2.0)
 #: The names :func:`table_specs` returns, in the issue table's order.
 TABLE_NAMES = ("round pad", "smooth sphere on glass", "bright patches", "three points, fold")
-#: Contact centres far outside any view: the same scene without contact.
-_OUT_OF_VIEW = ((1e3, 1e3), (1.1e3, 1.1e3), (1.2e3, 1.2e3))
+#: The scenes :func:`empty_reference` renders an empty frame of: the static scenes whose
+#: light does not depend on where the contact is.
+EMPTY_REFERENCE_SCENES = ("three_point", *PHYSICAL_SCENES)
 
 
 def table_specs(seed: int = 0, *, n_frames: int = 6) -> dict[str, FootageSpec]:
@@ -127,14 +129,14 @@ def empty_reference(spec: FootageSpec, *, exposure: float = REFERENCE_EXPOSURE,
     and seed without the contact, at ``exposure`` times the white level, moved by
     ``shift_px`` (x, y; bilinear, edges replicated), losslessly.
 
-    A three-point scene's contacts are moved out of view; a physical scene (``rough_pad``,
-    ``rough_sphere``) is its light before the contact's reflectance multiplies it (the
-    rubber lifted off: what a rig records before loading).
+    The scene is rendered without its contact (``_Clip(..., contact=False)``): its light
+    before the contact darkens it, the rubber lifted off, what a rig records before
+    loading.
 
     Parameters
     ----------
     spec : FootageSpec
-        ``scene="three_point"``, ``"rough_pad"`` or ``"rough_sphere"``.
+        A scene of :data:`EMPTY_REFERENCE_SCENES`.
     exposure : float
         Exposure relative to the footage, in (0, 1 / white_level].
     shift_px : (float, float)
@@ -143,30 +145,19 @@ def empty_reference(spec: FootageSpec, *, exposure: float = REFERENCE_EXPOSURE,
     -------
     (H, W) ndarray of the clip's dtype
     """
-    if spec.scene not in ("three_point", *PHYSICAL_SCENES):
-        raise ValueError(f"scene must be 'three_point', 'rough_pad' or 'rough_sphere' for "
-                         f"an empty reference, got scene={spec.scene!r}")
+    if spec.scene not in EMPTY_REFERENCE_SCENES:
+        raise ValueError(f"scene must be one of {', '.join(EMPTY_REFERENCE_SCENES)} for an "
+                         f"empty reference, got scene={spec.scene!r}")
     level = spec.camera.white_level * exposure
     if not 0.0 < level <= 1.0:
         raise ValueError(f"exposure must keep white_level * exposure in (0, 1], got "
                          f"exposure={exposure!r} with white_level={spec.camera.white_level}")
     cam = dataclasses.replace(spec.camera, white_level=level, jpeg_quality=None)
-    if spec.scene == "three_point":
-        empty = dataclasses.replace(spec, n_frames=1, camera=cam,
-                                    point_positions_mm=_OUT_OF_VIEW)
-        image = next(iter(iter_frames(empty)))[1]
-    else:
-        image = _without_contact(dataclasses.replace(spec, camera=cam))
+    clip = _Clip(dataclasses.replace(spec, camera=cam), contact=False)
+    # a physical scene's frame has noise of its own (drawn as for the frame after the
+    # clip's last); a three-point scene's keeps frame 0's draw, as issue 21's table was made
+    image = clip.image(spec.n_frames if spec.is_physical else 0)[0]
     m = np.float32([[1, 0, shift_px[0]], [0, 1, shift_px[1]]])
     return cv2.warpAffine(image, m, image.shape[::-1], flags=cv2.INTER_LINEAR,
                           borderMode=cv2.BORDER_REPLICATE)
 
-
-def _without_contact(spec: FootageSpec) -> np.ndarray:
-    """A physical static scene's light with the contact's reflectance left out (lit zone,
-    vignetting, ice, dust, stray light) through the same camera, its noise drawn as for the
-    frame after the clip's last (a recording of its own, not a copy of any frame's
-    noise)."""
-    clip = _Clip(spec)
-    clip.static = (clip.base.astype(np.float32), clip.static[1])
-    return clip.image(spec.n_frames)[0]

@@ -358,30 +358,25 @@ def _run_footage(args: argparse.Namespace) -> int:
     raised (exit code 1)."""
     try:
         from synthetic.footage import CameraSettings, FootageSpec, render_footage
+        from synthetic.table import EMPTY_REFERENCE_SCENES, empty_reference
     except ImportError as exc:
         raise ImportError(f"the renderer synthetic.footage is not available ({exc})") from exc
     camera, spec_kwargs = footage_kwargs(args)
     spec = FootageSpec(**spec_kwargs, camera=CameraSettings(**camera))
-    if args.empty_frame and spec.scene not in EMPTY_FRAME_SCENES:
-        raise UsageError(f"--empty-frame needs a static scene ({', '.join(EMPTY_FRAME_SCENES)}), "
-                         f"got --scene {spec.scene}")
+    if args.empty_frame and spec.scene not in EMPTY_REFERENCE_SCENES:
+        raise UsageError(f"--empty-frame needs a static scene "
+                         f"({', '.join(EMPTY_REFERENCE_SCENES)}), got --scene {spec.scene}")
     fmt = "jpg" if args.jpeg_quality is not None else args.format
     path = render_footage(spec, args.out, fmt=fmt)
     what = args.preset if spec.scene == "block" else f"the {spec.scene} scene"
     print(f"footage: rendered {spec.n_frames} frames ({fmt}) of {what} to {path}")
     if args.empty_frame:
-        from synthetic.table import empty_reference
-
         empty = Path(path) / "empty.png"
         # the same exposure and position as the footage, lossless (16-bit PNG above 8 bits)
         if not cv2.imwrite(str(empty), empty_reference(spec, exposure=1.0, shift_px=(0.0, 0.0))):
             raise OSError(f"{empty}: could not write the empty frame")
         print(f"empty frame: {empty} (tir-contact analyze {path} --reference {empty})")
     return 0
-
-
-#: Scenes whose empty frame ``--empty-frame`` renders (:func:`synthetic.table.empty_reference`).
-EMPTY_FRAME_SCENES = ("three_point", "rough_pad", "rough_sphere")
 
 
 # -- measurements ----------------------------------------------------------------------------
