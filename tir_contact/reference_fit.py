@@ -47,8 +47,9 @@ Method
    about 36 for a lit band taken for a lit disc).
 
 Pixels whose shifted reference would come from outside the image (``inside`` False: a
-strip along the border as wide as the shift) take the footage's own free-surface estimate
-(:func:`tir_contact.prepare.prepare_video`).
+strip along the border as wide as the shift) hold the reference's nearest pixel (its edge,
+replicated); the analysis takes the footage's own free-surface estimate there instead
+where the footage's frames show each pixel free (a fixed camera, :mod:`tir_contact.tir_view`).
 
 Examples
 --------
