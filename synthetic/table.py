@@ -154,9 +154,9 @@ def empty_reference(spec: FootageSpec, *, exposure: float = REFERENCE_EXPOSURE,
                          f"exposure={exposure!r} with white_level={spec.camera.white_level}")
     cam = dataclasses.replace(spec.camera, white_level=level, jpeg_quality=None)
     clip = _Clip(dataclasses.replace(spec, camera=cam), contact=False)
-    # a physical scene's frame has noise of its own (drawn as for the frame after the
-    # clip's last); a three-point scene's keeps frame 0's draw, as issue 21's table was made
-    image = clip.image(spec.n_frames if spec.is_physical else 0)[0]
+    # noise of its own, drawn as for the frame after the clip's last (a copy of a frame's
+    # noise would cancel that frame's noise wherever the analysis aligns the two)
+    image = clip.image(spec.n_frames)[0]
     m = np.float32([[1, 0, shift_px[0]], [0, 1, shift_px[1]]])
     return cv2.warpAffine(image, m, image.shape[::-1], flags=cv2.INTER_LINEAR,
                           borderMode=cv2.BORDER_REPLICATE)
