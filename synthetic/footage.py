@@ -2359,6 +2359,10 @@ def _write_lit_mask(out: Path, spec: FootageSpec, zone: LitZone) -> dict[str, An
     }
     if spec.is_physical:
         entries["physical_contact"] = _physical_meta(spec)
+        # what a rig's user knows of its optics (tir_contact.optics): not the rubber's
+        # index, which the analysis then takes at its default
+        entries["optics"] = {"substrate": spec.optics.substrate,
+                             "incidence_deg": spec.optics.incidence_deg}
     elif spec.is_static:
         sc = static_scene(spec)
         entries["static_contact"] = {

@@ -696,8 +696,8 @@ def test_pixels_are_measured_again_at_the_models_own_decision(monkeypatch):
     again = {}
     monkeypatch.setattr(tv, "measurable", measurable)
     monkeypatch.setattr(tv.TirView, "population_model",
-                        staticmethod(lambda samples, tref, contact_is, options, sigma=None:
-                                     again["m"]))
+                        staticmethod(lambda samples, tref, contact_is, options, sigma=None,
+                                     optics=None: again["m"]))
     first, model = ref(15), NS(threshold=0.485, separation=3.0)
     options = NS(noise_sigmas=5.0)
     args = ([], ref(100), first, model, 0.15, "dark", options)

@@ -608,7 +608,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                static: bool = False, zone_sigma: float = 0.0,
                zone_corr_px: float = 1.0,
                rim: tuple[np.ndarray, np.ndarray, int] | None = None,
-               bright: bool = False) -> AreaModel:
+               bright: bool = False, optics: tuple[float, str] | None = None) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -642,6 +642,12 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     bright : bool
         Bright contact (brighter than the free surface, its darkness growing without a
         full level): ``c`` is the median of the interiors (:func:`_full_level`).
+    optics : (float, str), optional
+        Full contact's darkness from the rig's optics and its source in words
+        (:func:`tir_contact.optics.full_contact_from_meta`): ``c`` where no contact is
+        resolved, instead of :data:`ASSUMED_FULL_DARKNESS`; its range stays
+        :data:`ASSUMED_FULL_RANGE` (stray light and the black level only lower it; the
+        rubber's index is rarely known to better than 1.45-1.6).
 
     Returns
     -------
@@ -711,15 +717,16 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                     "each pixel (junctions below the pixel, many to a pixel); the error bar "
                     "reaches down to the second reading; give --contrast if you know which")
         else:
-            c = ASSUMED_FULL_DARKNESS
+            c = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
             c_lo, c_hi = ASSUMED_FULL_RANGE
             source = "assumed"
             notes.append(
                 f"no contact in the sampled frames is resolved (wider than 3 px at a plateau "
                 f"of darkness): the contact area is the darkness fraction "
-                f"against an assumed full-contact darkness of {c:g} (range {c_lo:g}-"
-                f"{c_hi:g}); give --contrast with the darkness of full contact of your "
-                "setup if it has stray light"
+                f"against an assumed full-contact darkness of {c:.4g} "
+                + (f"({optics[1]}) " if optics is not None else "")
+                + f"(range {c_lo:g}-{c_hi:g}); give --contrast with the darkness of full "
+                "contact of your setup if it has stray light"
                 + ("; in this static scene faint dark spots may as well be the ice's dust, "
                    "bubbles or scratches: the error bar reaches down to no contact" if static
                    else ""))

@@ -104,6 +104,28 @@ META_FIELDS: dict[str, Field] = _fields(
         low=0,
         high=100,
     ),
+    Field("optics", "object", "the TIR rig's optics (full contact's darkness, Fresnel)"),
+    Field(
+        "optics.substrate",
+        "choice",
+        "what the rubber touches in the TIR image",
+        choices=("ice", "acrylic", "glass"),
+    ),
+    Field(
+        "optics.incidence_deg",
+        "number",
+        "angle of the light in the substrate against its normal, deg",
+        unit="deg",
+        low=0,
+        high=89.9,
+    ),
+    Field(
+        "optics.rubber_index",
+        "number",
+        "refractive index of the rubber (default 1.5)",
+        low=1.0,
+        high=3.0,
+    ),
 )
 
 #: Keys the contact analysis needs; ``view`` and ``contact_is`` have :data:`DEFAULTS`.

@@ -19,6 +19,7 @@ from tir_contact._readers import IMAGE_SUFFIXES, FootageError
 from tir_contact.features import BlockLayout
 from tir_contact.flatfield import Reference
 from tir_contact.meta import META_FILENAME, clip_footage, find_meta, load_meta, read_meta_json
+from tir_contact.optics import full_contact_from_meta
 from tir_contact.options import AnalysisOptions
 from tir_contact.side_view import SideView
 from tir_contact.tir_view import TirView
@@ -222,8 +223,11 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     max_dn = float(meta.get("max_dn") or (2 ** reader.bit_depth - 1))
     pixels = np.concatenate([f[::4, ::4].ravel() for f in samples])
     grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
-    kind = TirView if view == "tir" else SideView
-    view_obj, notes = kind.prepare(samples, shape, contact_is, options)
+    if view == "tir":
+        view_obj, notes = TirView.prepare(samples, shape, contact_is, options,
+                                          optics=full_contact_from_meta(meta))
+    else:
+        view_obj, notes = SideView.prepare(samples, shape, contact_is, options)
     layout = BlockLayout.from_meta(meta)
     return VideoSetup(meta, view_obj, contact_is, float(meta["fps"]), float(meta["mm_per_px"]),
                       layout, n, shape, max_dn, skipped, numbers, bad, grey_range, notes)

@@ -97,7 +97,8 @@ class TirView:
 
     @classmethod
     def prepare(cls, samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
-                options: AnalysisOptions) -> tuple[TirView, list[str]]:
+                options: AnalysisOptions, *, optics: tuple[float, str] | None = None
+                ) -> tuple[TirView, list[str]]:
         """The view of a video from its sampled frames, and the warnings found.
 
         The free surface and noise (:func:`_tir_reference`), the contrast
@@ -107,6 +108,9 @@ class TirView:
         at a higher decision than that first cut (the model's threshold: half the darkness
         of full contact), the pixels too noisy for the first cut but not for the decision
         are measured too, and the model is made again on them (:func:`_remeasured`).
+        `optics`: full contact's darkness from the rig's optics and its source
+        (:func:`tir_contact.optics.full_contact_from_meta`), for a video without resolved
+        contact.
         """
         tref, ref_fit, notes = _tir_reference(samples, shape, contact_is, options)
         contrast = options.contrast
@@ -118,9 +122,10 @@ class TirView:
         whole = tref
         sigma = whole.noise.sigma_darkness(whole.reference.image)
         tref = measurable(whole, threshold, n_sigma=options.noise_sigmas, sigma=sigma)
-        model = cls.population_model(samples, tref, contact_is, options, sigma=sigma)
+        model = cls.population_model(samples, tref, contact_is, options, sigma=sigma,
+                                     optics=optics)
         tref, model = _remeasured(samples, whole, tref, model, threshold, contact_is, options,
-                                  sigma)
+                                  sigma, optics)
         # the decision where the two populations separate (tir_contact.measure): half
         # the darkness of full contact, at least the free surface's reach
         threshold, contrast = model.threshold, model.contact_darkness
@@ -128,12 +133,13 @@ class TirView:
 
     @staticmethod
     def population_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
-                         options: AnalysisOptions, *, sigma: np.ndarray | None = None
-                         ) -> AreaModel:
+                         options: AnalysisOptions, *, sigma: np.ndarray | None = None,
+                         optics: tuple[float, str] | None = None) -> AreaModel:
         """The per-video model of the darkness populations (free surface, contact), made
         once in :meth:`prepare` from the sampled frames (:func:`_area_model`); `sigma`: the
-        free surface's darkness noise, when already computed."""
-        return _area_model(samples, tref, contact_is, options, sigma)
+        free surface's darkness noise, when already computed; `optics`: as for
+        :meth:`prepare`."""
+        return _area_model(samples, tref, contact_is, options, sigma, optics)
 
     def analyser(self, setup: Any, options: AnalysisOptions) -> TirFrames:
         """The per-frame step of this video."""
@@ -395,7 +401,8 @@ def _contrast(samples: list[np.ndarray], tref: TirReference, contact_is: str,
 
 
 def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
-                options: AnalysisOptions, sigma: np.ndarray | None = None) -> AreaModel:
+                options: AnalysisOptions, sigma: np.ndarray | None = None,
+                optics: tuple[float, str] | None = None) -> AreaModel:
     """The darkness populations of a TIR video (:func:`tir_contact.measure.area_model`) from
     the sampled frames' darkness on the measured pixels (`sigma`: the free surface's
     darkness noise, :meth:`tir_contact.reference.NoiseModel.sigma_darkness`, computed here
@@ -408,12 +415,13 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
                       min_cluster_px=options.min_area_px,
                       static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
                       zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
-                      bright=contact_is == "bright")
+                      bright=contact_is == "bright", optics=optics)
 
 
 def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReference,
                 model: AreaModel, threshold: float, contact_is: str,
-                options: AnalysisOptions, sigma: np.ndarray | None = None
+                options: AnalysisOptions, sigma: np.ndarray | None = None,
+                optics: tuple[float, str] | None = None
                 ) -> tuple[TirReference, AreaModel]:
     """The measured pixels and the population model at the model's own decision.
 
@@ -439,7 +447,8 @@ def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReferen
     wider = measurable(whole, model.threshold, n_sigma=options.noise_sigmas, sigma=sigma)
     if np.count_nonzero(wider.reference.valid) <= np.count_nonzero(tref.reference.valid):
         return tref, model
-    again = TirView.population_model(samples, wider, contact_is, options, sigma=sigma)
+    again = TirView.population_model(samples, wider, contact_is, options, sigma=sigma,
+                                     optics=optics)
     if again.separation <= 1.0 or again.threshold < model.threshold:
         return tref, model
     return wider, again
