@@ -718,7 +718,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                     "reaches down to the second reading; give --contrast if you know which")
         else:
             c = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
-            c_lo, c_hi = ASSUMED_FULL_RANGE
+            c_lo, c_hi = min(ASSUMED_FULL_RANGE[0], c), ASSUMED_FULL_RANGE[1]
             source = "assumed"
             notes.append(
                 f"no contact in the sampled frames is resolved (wider than 3 px at a plateau "

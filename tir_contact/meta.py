@@ -34,6 +34,7 @@ from typing import Any
 
 from tir_common.schema import Field, FieldError
 from tir_contact._readers import FootageError
+from tir_contact.optics import SUBSTRATE_INDEX
 
 logger = logging.getLogger(__name__)
 
@@ -109,7 +110,7 @@ META_FIELDS: dict[str, Field] = _fields(
         "optics.substrate",
         "choice",
         "what the rubber touches in the TIR image",
-        choices=("ice", "acrylic", "glass"),
+        choices=tuple(SUBSTRATE_INDEX),
     ),
     Field(
         "optics.incidence_deg",

@@ -79,9 +79,26 @@ def contact_darkness(substrate_index: float, incidence_deg: float,
 
 
 def full_contact_from_meta(meta: Mapping[str, Any]) -> tuple[float, str] | None:
-    """Full contact's darkness from ``meta["optics"]`` (``substrate``: ice, acrylic or
-    glass; ``incidence_deg``; ``rubber_index``, default :data:`RUBBER_INDEX`), and its
-    source in words; None where the metadata names no substrate or angle.
+    """Full contact's darkness from ``meta["optics"]``, and its source in words.
+
+    Parameters
+    ----------
+    meta : mapping
+        The footage's metadata (:func:`tir_contact.meta.load_meta`); its ``optics`` entry:
+        ``substrate`` (ice, acrylic or glass), ``incidence_deg`` and ``rubber_index``
+        (default :data:`RUBBER_INDEX`).
+
+    Returns
+    -------
+    (float, str) or None
+        None where the metadata has no ``optics`` entry.
+
+    Raises
+    ------
+    ValueError
+        Naming the key: one of ``substrate`` and ``incidence_deg`` without the other, an
+        unknown substrate, or an angle at which the rig shows no contact (the free surface
+        does not reflect totally in air, or the rubber reflects totally too).
 
     Examples
     --------
@@ -97,8 +114,25 @@ def full_contact_from_meta(meta: Mapping[str, Any]) -> tuple[float, str] | None:
         return None
     substrate, angle = optics.get("substrate"), optics.get("incidence_deg")
     if substrate is None or angle is None:
-        return None
-    n1 = SUBSTRATE_INDEX[str(substrate)]
-    n2 = float(optics.get("rubber_index", RUBBER_INDEX))
-    c = contact_darkness(n1, float(angle), n2)
-    return c, f"rubber (n {n2:g}) on {substrate} (n {n1:g}) at {float(angle):g} deg, Fresnel"
+        given, missing = (("substrate", "incidence_deg") if angle is None
+                          else ("incidence_deg", "substrate"))
+        if optics.get(given) is None:
+            return None
+        raise ValueError(f"'optics.{given}' is given without 'optics.{missing}': full "
+                         "contact's darkness needs both")
+    name = str(substrate).strip().lower()
+    if name not in SUBSTRATE_INDEX:
+        raise ValueError(f"'optics.substrate' must be one of {', '.join(SUBSTRATE_INDEX)}, "
+                         f"got {substrate!r}")
+    n1 = SUBSTRATE_INDEX[name]
+    n2 = float(optics.get("rubber_index") or RUBBER_INDEX)
+    theta = float(angle)
+    lowest, highest = (math.degrees(math.asin(1.0 / n1)),
+                       math.degrees(math.asin(min(n2 / n1, 1.0))))
+    if not lowest < theta < highest:
+        raise ValueError(
+            f"'optics.incidence_deg' must lie between {lowest:.1f} deg (below it the free "
+            f"surface of {name} does not reflect totally) and {highest:.1f} deg (beyond it "
+            f"rubber of index {n2:g} reflects totally too), got {theta:g}")
+    c = contact_darkness(n1, theta, n2)
+    return c, f"rubber (n {n2:g}) on {name} (n {n1:g}) at {theta:g} deg, Fresnel"

@@ -225,7 +225,7 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
     if view == "tir":
         view_obj, notes = TirView.prepare(samples, shape, contact_is, options,
-                                          optics=full_contact_from_meta(meta))
+                                          optics=_optics(meta, path, contact_is))
     else:
         view_obj, notes = SideView.prepare(samples, shape, contact_is, options)
     layout = BlockLayout.from_meta(meta)
@@ -233,4 +233,14 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
                       layout, n, shape, max_dn, skipped, numbers, bad, grey_range, notes)
 
 
-
+def _optics(meta: Mapping[str, Any], path: Path, contact_is: str) -> tuple[float, str] | None:
+    """Full contact's darkness from the metadata's ``optics`` (dark contact only: bright
+    contact has no full level), :func:`tir_contact.optics.full_contact_from_meta`; a value
+    that cannot be used is an error naming the metadata file."""
+    if contact_is != "dark":
+        return None
+    try:
+        return full_contact_from_meta(meta)
+    except ValueError as exc:
+        where = find_meta(path) or path
+        raise FootageError(f"{where}: {exc}", path) from exc

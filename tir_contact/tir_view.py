@@ -537,9 +537,9 @@ def _covered_reference(fit: ReferenceFit, own: TirReference) -> np.ndarray:
     the reference's nearest covered pixel (``fit.image`` there: its edge, replicated).
 
     A static scene's own estimate is continued over the contact from around it and keeps
-    the ice's bubbles and a bias of its level (measured on seed 7's static rough pads:
-    0.06-0.31 darkness over the 3 px strip of a (3, -2) px shift, read as 40-50 % extra
-    contact); the light field changes little over the few pixels of a shift, so the
+    the ice's bubbles and a bias of its level (measured on seed 7's small static rough pad
+    and sphere: 0.06-0.31 darkness over the 3 px strip of a (3, -2) px shift, read as 47 and
+    15 % extra contact); the light field changes little over the few pixels of a shift, so the
     reference's edge is the better estimate there.
     """
     if own.camera != "fixed":
