@@ -8,7 +8,8 @@ Footage readers (:mod:`tir_contact.io`)
     :class:`CineReader`, :class:`ArrayReader`, :class:`FootageError`; the readers' registry
     :func:`register_reader`, :func:`unregister_reader`, :func:`readers`.
 Metadata (:mod:`tir_contact.meta`)
-    :func:`load_meta`.
+    :func:`load_meta`; full contact's darkness from the rig's optics
+    (:mod:`tir_contact.optics`): :func:`contact_darkness`.
 Reference and segmentation (:mod:`tir_contact.flatfield`, :mod:`tir_contact.segment`)
     :func:`reference_from_frames`, :func:`reference_from_frame`, :func:`darkness`,
     :class:`Reference`, :func:`segment_frame`, :class:`FrameContact`, :func:`region_table`;
@@ -51,6 +52,7 @@ _LAZY = {
     "MultiPageTiffReader": "tir_contact.io",
     "VideoFileReader": "tir_contact.io",
     "load_meta": "tir_contact.meta",
+    "contact_darkness": "tir_contact.optics",
     "Reference": "tir_contact.flatfield",
     "darkness": "tir_contact.flatfield",
     "reference_from_frame": "tir_contact.flatfield",
