@@ -92,6 +92,17 @@ def _rendered(spec: FootageSpec, prefix: str) -> Iterator[Path]:
         shutil.rmtree(work, ignore_errors=True)
 
 
+def _options(spec: FootageSpec, clip: Path, reference: bool) -> AnalysisOptions:
+    """:data:`OPTIONS`, with the scene's own empty frame
+    (:func:`synthetic.table.empty_reference`, written beside `clip`) as ``--reference``
+    when `reference` is set."""
+    if not reference:
+        return OPTIONS
+    ref = clip.parent / "empty.png"
+    cv2.imwrite(str(ref), empty_reference(spec))
+    return dataclasses.replace(OPTIONS, reference=str(ref))
+
+
 def _block_truth(clip: Path) -> pd.Series:
     """The true contact area of the block or scene (``element == -1``) by frame, mm^2."""
     truth = pd.read_csv(clip / "ground_truth.csv")
@@ -109,13 +120,9 @@ def validate_clip(spec: FootageSpec, case: str, index: int, reference: bool = Fa
         lit_file = clip / "lit_mask.png"
         lit = (_OutsideLit(cv2.imread(str(lit_file), cv2.IMREAD_GRAYSCALE) > 0)
                if spec.view == "tir" and lit_file.exists() else None)
-        options = OPTIONS
         if reference:
-            ref = clip.parent / "empty.png"
-            cv2.imwrite(str(ref), empty_reference(spec))
-            options = dataclasses.replace(OPTIONS, reference=str(ref))
             case = f"{case}, empty frame"
-        res = analyze_video(clip, options=options, on_frame=lit)
+        res = analyze_video(clip, options=_options(spec, clip, reference), on_frame=lit)
         truth = pd.read_csv(clip / "ground_truth.csv")
         row = {"clip": index, "case": case, "preset": spec.preset if spec.scene == "block"
                else spec.scene, "real_contact": spec.real_contact,
@@ -231,12 +238,7 @@ def validate_table_clip(name: str, spec: FootageSpec, *, reference: bool = False
     frames whose truth lies in the error bar, the warnings.
     """
     with _rendered(spec, "tir-table-") as clip:
-        options = OPTIONS
-        if reference:
-            ref = clip.parent / "empty.png"
-            cv2.imwrite(str(ref), empty_reference(spec))
-            options = dataclasses.replace(OPTIONS, reference=str(ref))
-        res = analyze_video(clip, options=options)
+        res = analyze_video(clip, options=_options(spec, clip, reference))
         block = _block_truth(clip)
         measured = res.frames.set_index("frame")["contact_area_mm2"].reindex(block.index)
         row = {"case": name + (", reference" if reference else ""),

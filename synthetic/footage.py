@@ -1486,10 +1486,13 @@ class _Clip:
         self._frame_k = 0
         if spec.real_contact == "physical":
             self.phys_block = self._physical_block()
-        if spec.is_static and not contact:
-            self.static = (self.base.astype(np.float32), [])
-        elif spec.is_static:
-            self.static = self._render_physical() if spec.is_physical else self._render_static()
+        if spec.is_static:
+            if not contact:  # the light alone
+                self.static = (self.base.astype(np.float32), [])
+            elif spec.is_physical:
+                self.static = self._render_physical()
+            else:
+                self.static = self._render_static()
         self.sensor = Sensor(
             (cam.height_px, cam.width_px),
             bit_depth=cam.bit_depth,

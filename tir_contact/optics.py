@@ -113,11 +113,11 @@ def full_contact_from_meta(meta: Mapping[str, Any]) -> tuple[float, str] | None:
     if not isinstance(optics, Mapping):
         return None
     substrate, angle = optics.get("substrate"), optics.get("incidence_deg")
+    if substrate is None and angle is None:
+        return None
     if substrate is None or angle is None:
         given, missing = (("substrate", "incidence_deg") if angle is None
                           else ("incidence_deg", "substrate"))
-        if optics.get(given) is None:
-            return None
         raise ValueError(f"'optics.{given}' is given without 'optics.{missing}': full "
                          "contact's darkness needs both")
     name = str(substrate).strip().lower()
