@@ -28,6 +28,9 @@ ground truth. Per clip:
   true area lies inside the pipeline's own error bar ``[contact_area_low_mm2,
   contact_area_high_mm2]`` of ``frames.csv`` (no slack: the bar is the claim); absent when
   the pipeline writes no such columns, the summary's ``in_band_pct`` is then n/a.
+* ``band_width_pct`` (TIR, scored clips): the median over the frames of the bar's width,
+  ``high - low``, in % of the true area: how much the bar claims (a bar 30 times wider than
+  the contact holds the truth and says little).
 
 Issue 21's measurement targets (:data:`MEASUREMENT_TARGETS`) are checked on the physical
 classes, the renders of the issue's table (:func:`validate_table_clip`, footage of
@@ -172,13 +175,27 @@ def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None,
 
 
 def band_counts(frames: pd.DataFrame, true_mm2: pd.Series) -> dict:
-    """Frames scored and those whose true area (``true_mm2``, indexed by frame) lies in the
-    measured ``[contact_area_low_mm2, contact_area_high_mm2]``; {} without those columns."""
+    """Frames scored, those whose true area (``true_mm2``, indexed by frame) lies in the
+    measured ``[contact_area_low_mm2, contact_area_high_mm2]``, and the bar's width
+    (``band_width_pct``: the median over the frames of ``high - low`` in % of the true
+    area: a bar that holds the truth says little when it is many times wider than it);
+    {} without those columns.
+
+    Examples
+    --------
+    >>> f = pd.DataFrame({"frame": [0, 1], "contact_area_low_mm2": [0.9, 1.2],
+    ...                   "contact_area_high_mm2": [1.1, 1.6]})
+    >>> band_counts(f, pd.Series([1.0, 1.0], index=[0, 1]))
+    {'frames_scored': 2, 'frames_in_band': 1, 'band_width_pct': 30.0}
+    """
     if not {"contact_area_low_mm2", "contact_area_high_mm2"} <= set(frames.columns):
         return {}
     f = frames.set_index("frame").reindex(true_mm2.index)
     inside = (f.contact_area_low_mm2 <= true_mm2) & (true_mm2 <= f.contact_area_high_mm2)
-    return {"frames_scored": len(true_mm2), "frames_in_band": int(inside.sum())}
+    width = 100 * (f.contact_area_high_mm2 - f.contact_area_low_mm2) / true_mm2
+    width = width[np.isfinite(width)]
+    return {"frames_scored": len(true_mm2), "frames_in_band": int(inside.sum()),
+            "band_width_pct": round(float(width.median()), 6) if len(width) else np.nan}
 
 
 def element_pairs(res, truth: pd.DataFrame, *,
@@ -212,8 +229,8 @@ def _compare_side(res, truth: pd.DataFrame) -> dict:
 def summarise(table: pd.DataFrame) -> pd.DataFrame:
     """Median and 95th percentile of each error per case class, and over all clips."""
     metrics = [m for m in ("area_err_pct", "optical_err_pct", "optical_over_real_pct",
-                           "outside_lit_pct", "beyond_rim_pct", "length_err_mm",
-                           "angle_err_deg") if m in table]
+                           "band_width_pct", "outside_lit_pct", "beyond_rim_pct",
+                           "length_err_mm", "angle_err_deg") if m in table]
     rows = []
     for case, group in [*table.groupby("case", sort=True), ("all", table)]:
         row = {"case": case, "clips": len(group)}

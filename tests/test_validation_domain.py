@@ -54,6 +54,20 @@ def readme_text() -> str:
     return (ROOT / "README.md").read_text(encoding="utf-8")
 
 
+def test_band_counts_scores_the_bar_and_its_width():
+    """Hand-made bars: frame 0 holds the truth (1.0 in [0.9, 1.1], 20 % wide), frame 1 misses
+    it (low 1.2), 40 % wide, frame 2 has no truth row (ignored): median width 30 %."""
+    import pandas as pd
+
+    frames = pd.DataFrame({"frame": [0, 1, 2], "contact_area_low_mm2": [0.9, 1.2, 0.0],
+                           "contact_area_high_mm2": [1.1, 1.6, 9.0]})
+    got = dv.band_counts(frames, pd.Series([1.0, 1.0], index=[0, 1]))
+    assert got["frames_scored"] == 2 and got["frames_in_band"] == 1
+    assert got["band_width_pct"] == pytest.approx(30.0, abs=1e-9)
+    assert dv.band_counts(frames.drop(columns="contact_area_low_mm2"),
+                          pd.Series([1.0], index=[0])) == {}
+
+
 def test_readme_states_the_targets_the_example_checks():
     text = " ".join(readme_text().split())
     assert ("Targets: contact area median <= 3 %, 95th percentile <= 10 %; element contact "
