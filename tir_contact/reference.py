@@ -2,7 +2,9 @@
 
 A TIR frame is read as darkness ``D = 1 - I / I_free`` against the free (contact-free)
 surface ``I_free``. When the block passes a fixed camera, each pixel's bright percentile
-over the frames is that surface (:func:`tir_contact.flatfield.reference_from_frames`). In a
+over the frames is that surface, scaled down to the free surface's mean
+(:func:`_percentile_excess`: the percentile of noisy values lies above their mean, and a
+reference too bright by a share ``b`` reads every darkness as ``b + D (1 - b)``). In a
 static test, a single photograph or a camera that follows the block, no frame shows the
 surface under the contact, and it has to be estimated from the frame itself.
 
@@ -51,7 +53,7 @@ from tir_contact._morphology import disc_close
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
-from tir_contact.measure import ASSUMED_FULL_DARKNESS, correlation_area
+from tir_contact.measure import ASSUMED_FULL_DARKNESS, _free_mean, correlation_area
 
 __all__ = [
     "CAMERA_MODES",
@@ -602,6 +604,9 @@ class TirReference:
         Free surface estimated from the image (a static scene): the light's variation the
         estimate cannot follow over a contact (:attr:`FreeSurface.texture_sigma`); 0 and 1
         when frames show the free surface.
+    percentile_excess : float
+        A fixed camera's bright percentile: the share by which it lay above the free
+        surface's mean, taken out of ``reference`` (:func:`_percentile_excess`); 0 else.
     """
 
     reference: Reference
@@ -611,6 +616,7 @@ class TirReference:
     noise: NoiseModel
     texture_sigma: float = 0.0
     texture_corr_px: float = 1.0
+    percentile_excess: float = 0.0
 
 
 def _median(frames: list[np.ndarray]) -> np.ndarray:
@@ -789,6 +795,7 @@ def tir_reference(
         lit = find_lit_zone(bright) if contact_is == "dark" else whole_frame(shape)
     mask = lit.mask
     tex = (0.0, 1.0)  # the texture a static scene's estimate does not follow (below)
+    excess = 0.0  # a fixed camera's percentile over the free surface's mean (below)
     if image is not None:
         free = np.asarray(image, np.float32)
         mode, method, cand = "fixed", "file", np.zeros(shape, bool)
@@ -812,6 +819,9 @@ def tir_reference(
             if fs.candidates.sum() > need:
                 free, cand = fs.image, fs.candidates
                 method = "percentile, the block it still holds replaced by a fitted surface"
+            if contact_is == "dark":
+                excess = _percentile_excess(frames, free, mask & ~cand)
+                free = free * np.float32(1.0 - excess)
         else:
             fs = free_surface(median, mask, contact_is=contact_is)
             free, cand = fs.image, fs.candidates
@@ -834,7 +844,44 @@ def tir_reference(
     away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
     noise = noise_model(_residuals(frames, free), free, away)
     ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))
-    return TirReference(ref, lit, mode, method, noise, *tex)
+    return TirReference(ref, lit, mode, method, noise, *tex, percentile_excess=excess)
+
+
+#: Sampled frames the free surface's mean is measured on (:func:`_percentile_excess`), at
+#: most: as the area model's (:data:`tir_contact.measure.MAX_FREE_FRAMES`).
+EXCESS_FRAMES = 8
+
+
+def _percentile_excess(frames: list[np.ndarray], bright: np.ndarray, free: np.ndarray
+                       ) -> float:
+    """The share ``b`` by which a fixed camera's bright percentile image lies above the free
+    surface's mean: the mean darkness ``1 - I / bright`` of the free surface away from
+    contact (:func:`tir_contact.measure._free_mean`: tiles whose mean lies within a few
+    tile noise sigmas of the lower quartile of the tile means) in up to
+    :data:`EXCESS_FRAMES` of the `frames`, over the pixels `free` (the lit zone less the
+    contact the percentile image still holds). 0 where fewer than 100 pixels tell.
+
+    Each pixel's 90th percentile over 32 noisy frames lies about 1.2 noise sigmas above its
+    mean (1-2 % of the light in the renders), and more where the block covered the pixel in
+    some frames. Against it, a free pixel reads ``b`` and a pixel at darkness ``D`` reads
+    ``b + D (1 - b)``: the free surface's offset is taken out of every reading, the factor
+    ``1 - b`` is not, and where full contact's darkness is not read from the image (the
+    rig's optics, an assumed value) every unmixed area came out short by ``b`` (the
+    physical renders' junction fields: 1.6-2.6 % below their optical contact). Scaling the
+    percentile image by ``1 - b`` makes it the free surface's mean: ``I / I_free``
+    exactly. Its noise sets the tile test: the spread of the differences of consecutive
+    frames (:func:`_residuals`), robust, against the median light.
+    """
+    few = frames[::max(1, math.ceil(len(frames) / EXCESS_FRAMES))]
+    light = bright[free]
+    if light.size < 100 or not np.isfinite(light).all() or float(np.median(light)) <= 0:
+        return 0.0
+    diffs = np.concatenate([r[free].ravel() for r in _residuals(frames, bright)])
+    sigma = 1.4826 * float(np.median(np.abs(diffs))) / float(np.median(light))
+    inv = np.where(free, 1.0 / np.maximum(bright, 1e-6), np.nan).astype(np.float32)
+    darkness = [1.0 - np.asarray(f, np.float32) * inv for f in few]
+    b = _free_mean(darkness, sigma)
+    return float(b) if math.isfinite(b) else 0.0
 
 
 def measurable(tref: TirReference, threshold: float, *, n_sigma: float = 5.0,

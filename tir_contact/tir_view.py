@@ -375,6 +375,8 @@ def _tir_assumptions(t: TirReference) -> dict[str, Any]:
             "darkness_sigma_median": _finite_or_none(float(np.median(sigma[measured]))
                                                      if measured.any() else math.nan),
         },
+        # a fixed camera's bright percentile, scaled to the free surface's mean by this
+        "percentile_excess": t.percentile_excess,
     }
 
 
