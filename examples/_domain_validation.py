@@ -28,6 +28,10 @@ ground truth. Per clip:
   true area lies inside the pipeline's own error bar ``[contact_area_low_mm2,
   contact_area_high_mm2]`` of ``frames.csv`` (no slack: the bar is the claim); absent when
   the pipeline writes no such columns, the summary's ``in_band_pct`` is then n/a.
+* ``frames_in_band_optical`` (physical scenes, scored clips): the frames whose optical
+  contact lies in the bar (the summary's ``in_band_optical_pct``): what the image shows,
+  against which the bar is built; the true contact (gap 0) lies below it by the
+  near-contact optics (``optical_over_real_pct``), which no reading of the image removes;
 * ``band_width_pct`` (TIR, scored clips): the median over the frames of the bar's width,
   ``high - low``, in % of the true area: how much the bar claims (a bar 30 times wider than
   the contact holds the truth and says little).
@@ -161,6 +165,9 @@ def _compare_tir(res, truth: pd.DataFrame, lit: _OutsideLit | None,
             out["optical_err_pct"] = (100 * float((measured - optical).abs().sum())
                                       / float(optical.sum()))
             out["optical_over_real_pct"] = 100 * (float(optical.sum()) / true_sum - 1)
+            seen = band_counts(res.frames, optical)
+            if seen:
+                out["frames_in_band_optical"] = seen["frames_in_band"]
     if lit is not None:
         px2 = float(res.summary["meta"]["mm_per_px"]) ** 2
         out["outside_lit_mm2"] = lit.outside * px2
@@ -242,6 +249,10 @@ def summarise(table: pd.DataFrame) -> pd.DataFrame:
         if "frames_scored" in group and group.frames_scored.sum() > 0:
             row["in_band_pct"] = (100 * float(group.frames_in_band.sum())
                                   / float(group.frames_scored.sum()))
+            if "frames_in_band_optical" in group and group.frames_in_band_optical.notna().any():
+                seen = group[group.frames_in_band_optical.notna()]
+                row["in_band_optical_pct"] = (100 * float(seen.frames_in_band_optical.sum())
+                                              / float(seen.frames_scored.sum()))
         rows.append(row)
     return pd.DataFrame(rows)
 

@@ -235,8 +235,9 @@ def measurement_markdown(summaries: dict[str, pd.DataFrame], table: pd.DataFrame
              f"in [low, high] in >= {t['in_band_pct']:g} % of frames, load-series |intercept| "
              f"< {t['intercept_pct']:g} % of the lowest load's area.", "",
              "| set | case | clips | area error median, % | area error p95, % | "
-             "truth in [low, high], % of frames | bar width, % of the true area (median / "
-             "p95 of the clips) |", "|---|---|---|---|---|---|---|"]
+             "truth in [low, high], % of frames | optical contact in [low, high], % of "
+             "frames | bar width, % of the true area (median / p95 of the clips) |",
+             "|---|---|---|---|---|---|---|---|"]
     for name, summary in summaries.items():
         for row in summary.to_dict("records"):
             width = (f"{_pct(row.get('band_width_pct median'))} / "
@@ -244,7 +245,7 @@ def measurement_markdown(summaries: dict[str, pd.DataFrame], table: pd.DataFrame
             lines.append(f"| {name} | {row['case']} | {row['clips']} | "
                          f"{_pct(row.get('area_err_pct median'))} | "
                          f"{_pct(row.get('area_err_pct p95'))} | {_pct(row.get('in_band_pct'))} | "
-                         f"{width} |")
+                         f"{_pct(row.get('in_band_optical_pct'))} | {width} |")
     if table is not None:
         lines += ["", "Renders of issue 21's table (synthetic.table):", "",
                   "| image | true area, mm2 | measured, mm2 | bar (mean low / high), mm2 | "

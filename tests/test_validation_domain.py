@@ -66,6 +66,18 @@ def test_band_counts_scores_the_bar_and_its_width():
     assert got["band_width_pct"] == pytest.approx(30.0, abs=1e-9)
     assert dv.band_counts(frames.drop(columns="contact_area_low_mm2"),
                           pd.Series([1.0], index=[0])) == {}
+    # the summary: frames in the bar over frames scored, against the optical contact over
+    # the clips that have one (case "b" has none)
+    table = pd.DataFrame({"case": ["a", "a", "b"], "frames_scored": [10, 10, 5],
+                          "frames_in_band": [10, 5, 5],
+                          "frames_in_band_optical": [10, 9, np.nan],
+                          "band_width_pct": [5.0, 7.0, 9.0]})
+    summary = dv.summarise(table).set_index("case")
+    assert summary.loc["a", "in_band_pct"] == pytest.approx(75.0)
+    assert summary.loc["a", "in_band_optical_pct"] == pytest.approx(95.0)
+    assert summary.loc["all", "in_band_optical_pct"] == pytest.approx(95.0)
+    assert np.isnan(summary.loc["b", "in_band_optical_pct"])
+    assert summary.loc["all", "band_width_pct median"] == pytest.approx(7.0)
 
 
 def test_readme_states_the_targets_the_example_checks():
