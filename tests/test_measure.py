@@ -781,3 +781,35 @@ def test_dense_junction_clusters_are_not_taken_for_full_contact_alone():
     a = frame_area(d, m, (slice(39, 101), slice(59, 141)))
     assert a.area_px / true > 1.2  # read at 0.62 (the clusters counted whole)
     assert a.low_px <= true <= a.high_px
+
+
+def test_free_surface_offset_spread_between_places():
+    """The free surface's offset between tiles (`_free_tiles`): eight frames of 2 % noise
+    whose offset is 0 on the left half of the frame and 0.003 on the right; a junction
+    field (a 40 x 60 px block, 10 % of its pixels at 0.3) in a different place in each
+    frame, which the tile test leaves out. Truths: the mean, 0.0015 (half the tiles at
+    each offset), within 0.0003 (the tiles left out with the field may tip the halves'
+    balance by a few tiles: 0.0003 is a tenth of the tiles moving sides); the spread,
+    0.0015 (the standard deviation of two equal halves 0.003 apart), within 0.0003 (the
+    tiles' noise, 0.02 / sqrt(8 x 256) = 0.0004 each, taken out to a few per cent of it).
+    A uniform offset's spread is noise alone: under 0.0003 (the noise's removal leaves
+    its estimate's scatter, 0.0004 / sqrt(2 x 120 tiles) x a few)."""
+    from tir_contact.measure import _free_tiles
+
+    rng = np.random.default_rng(11)
+
+    def frames(step: float) -> list[np.ndarray]:
+        out = []
+        for k in range(8):
+            d = _noise(rng, 0.02)
+            d[:, SHAPE[1] // 2:] += step
+            field = np.where(rng.random((40, 60)) < 0.1, 0.3, 0.0).astype(np.float32)
+            r, c = 20 + 12 * k, 10 + 16 * k
+            d[r:r + 40, c:c + 60] += field
+            out.append(d)
+        return out
+
+    mean, spread = _free_tiles(frames(0.003), 0.02)
+    assert mean == pytest.approx(0.0015, abs=0.0003)
+    assert spread == pytest.approx(0.0015, abs=0.0003)
+    assert _free_tiles(frames(0.0), 0.02)[1] < 0.0003

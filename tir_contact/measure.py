@@ -211,6 +211,11 @@ class AreaModel:
         level a junction field's box, every pixel of it summed, is read against (its
         noise's skew, from 8-bit steps and JPEG, puts the mean above the median ``b``);
         NaN: not known, or the contact is not graded (the only readings that use it).
+    field_offset_spread : float
+        How much the free surface's offset varies between places away from contact
+        (:func:`_free_tiles`): the pixels summed against ``field_offset`` may lie where it
+        differs by this much, which the error bar holds (:func:`frame_area`); 0 where not
+        known.
     graded : bool
         The contact is graded: a field of junctions below the pixel that reaches half of
         full contact only in the dense band at each face's front
@@ -247,6 +252,7 @@ class AreaModel:
     reach_measured: bool = False
     graded: bool = False
     field_offset: float = math.nan
+    field_offset_spread: float = 0.0
 
     @property
     def junction_field(self) -> bool:
@@ -285,6 +291,7 @@ class AreaModel:
                 "n_pixels": self.n_free,
                 "mean_away_from_contact": (round(self.field_offset, r)
                                            if math.isfinite(self.field_offset) else None),
+                "mean_spread_between_places": round(self.field_offset_spread, r),
             },
             "contact": {
                 "darkness": round(self.contact_darkness, r),
@@ -336,13 +343,39 @@ FREE_TILE_PX = 16
 
 
 def _free_mean(samples: list[np.ndarray], sigma_px: float) -> float:
-    """Mean darkness of the free surface away from contact: of the pixels in the tiles of
-    :data:`FREE_TILE_PX` whose mean darkness, and their neighbours', lies within 5 tile
-    noise sigmas (`sigma_px`: one pixel's noise over its correlation area) of the lower
-    quartile of the tile means (a free tile's, where a quarter of the tiles is free: a
-    junction field, however sparse, lifts its tiles' means past that, a single noise pixel
-    does not); NaN from fewer than 100 pixels."""
+    """Mean darkness of the free surface away from contact (:func:`_free_tiles`); NaN from
+    fewer than 100 pixels."""
+    return _free_tiles(samples, sigma_px)[0]
+
+
+#: Tiles (each with at least a whole tile's worth of free values over the samples) the
+#: spread of the free surface's offset between tiles is read from, at least.
+MIN_SPREAD_TILES = 4
+
+
+def _free_tiles(samples: list[np.ndarray], sigma_px: float) -> tuple[float, float]:
+    """Mean darkness of the free surface away from contact, and how much its offset varies
+    between places (its spread between tiles, the tiles' own noise taken out).
+
+    The mean: of the pixels in the tiles of :data:`FREE_TILE_PX` whose mean darkness, and
+    their neighbours', lies within 5 tile noise sigmas (`sigma_px`: one pixel's noise over
+    its correlation area) of the lower quartile of the tile means (a free tile's, where a
+    quarter of the tiles is free: a junction field, however sparse, lifts its tiles' means
+    past that, a single noise pixel does not); NaN from fewer than 100 pixels.
+
+    The spread: the standard deviation of the tiles' means (each over the samples that show
+    it free, :data:`MIN_SPREAD_TILES` tiles or more with a tile's worth of values), less
+    their noise (``sigma_px^2 / n`` for ``n`` values), 0 where fewer tiles tell. A fixed
+    camera's reference lies above the free light's mean by a share that follows the light
+    and how often the block covered each pixel
+    (:func:`tir_contact.reference._percentile_excess`); a junction field's box, every
+    pixel summed against the mean, may lie where the offset differs from it by this much
+    (the physical renders: 0.1-0.2 % of the light on a block's path in a small lit zone,
+    1-3 % of the area of a sparse field).
+    """
     t = FREE_TILE_PX
+    sums: np.ndarray | None = None
+    counts: np.ndarray | None = None
     parts = []
     for d in samples:
         h, w = (d.shape[0] // t) * t, (d.shape[1] // t) * t
@@ -351,16 +384,29 @@ def _free_mean(samples: list[np.ndarray], sigma_px: float) -> float:
         sub = d[:h, :w].reshape(h // t, t, w // t, t)
         finite = np.isfinite(sub)
         n = finite.sum(axis=(1, 3))
-        mean = np.where(finite, sub, 0.0).sum(axis=(1, 3)) / np.maximum(n, 1)
+        values = np.where(finite, sub, 0.0)
+        mean = values.sum(axis=(1, 3)) / np.maximum(n, 1)
         ok = n >= t * t // 2
         if not ok.any():
             continue
         level = float(np.percentile(mean[ok], 25.0)) + 5.0 * sigma_px / t
         lifted = (mean > level) | ~ok
         free = ~cv2.dilate(lifted.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+        if sums is None or sums.shape != n.shape:
+            sums, counts = np.zeros(n.shape), np.zeros(n.shape)
+        sums += np.where(free, values.sum(axis=(1, 3), dtype=np.float64), 0.0)
+        counts += np.where(free, n, 0)
         parts.append(sub[finite & free[:, None, :, None]])
-    values = np.concatenate(parts) if parts else np.zeros(0, np.float32)
-    return float(np.mean(values, dtype=np.float64)) if values.size >= 100 else math.nan
+    if sums is None or counts.sum() < 100:
+        return math.nan, 0.0
+    # the mean as the values' own (the same sum, to the last bit, as before the spread)
+    mean = float(np.mean(np.concatenate(parts), dtype=np.float64))
+    told = counts >= t * t
+    if int(told.sum()) < MIN_SPREAD_TILES:
+        return mean, 0.0
+    tiles = sums[told] / counts[told]
+    noise = float(np.mean(sigma_px ** 2 / counts[told]))
+    return mean, math.sqrt(max(float(np.var(tiles)) - noise, 0.0))
 
 
 def correlation_area(samples: list[np.ndarray], b: float, spread: float) -> float:
@@ -769,9 +815,10 @@ def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndar
             f"contact at {high:g}; give --contrast if you know which")]
     # the free surface's mean: read against by a junction field's box and by graded
     # contact's columns (their means)
-    offset = (_free_mean(few, model.sigma_free * math.sqrt(model.corr_px))
-              if graded else math.nan)
-    return replace(model, graded=graded, contact_high=high, notes=notes, field_offset=offset)
+    offset, spread = (_free_tiles(few, model.sigma_free * math.sqrt(model.corr_px))
+                      if graded else (math.nan, 0.0))
+    return replace(model, graded=graded, contact_high=high, notes=notes, field_offset=offset,
+                   field_offset_spread=spread)
 
 
 def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
@@ -1104,7 +1151,11 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
         # a static scene: the light the free surface estimate continues over the contact
         # but cannot follow there
         sd_zone = model.zone_sigma * math.sqrt(n_z * model.zone_corr_px)
-        sd = math.sqrt(sd_sum ** 2 + sd_b ** 2 + sd_zone ** 2) / c
+        # graded contact: the pixels summed against the free surface's mean may lie where
+        # its offset differs from the mean by its spread between places (not averaged
+        # down over the pixels: it is the light's and the block's path's, not noise)
+        sd_place = n_un * model.field_offset_spread
+        sd = math.sqrt(sd_sum ** 2 + sd_b ** 2 + sd_zone ** 2 + sd_place ** 2) / c
     area = part_res + excess_un / c
     res_alone = min(part_res, res_lo)  # the resolved part's low end
     low = res_alone + excess_un / max(model.contact_high, 1e-6) - BAND_SIGMAS * sd
