@@ -384,8 +384,8 @@ def _free_tiles(samples: list[np.ndarray], sigma_px: float) -> tuple[float, floa
         sub = d[:h, :w].reshape(h // t, t, w // t, t)
         finite = np.isfinite(sub)
         n = finite.sum(axis=(1, 3))
-        values = np.where(finite, sub, 0.0)
-        mean = values.sum(axis=(1, 3)) / np.maximum(n, 1)
+        total = np.where(finite, sub, 0.0).sum(axis=(1, 3))
+        mean = total / np.maximum(n, 1)
         ok = n >= t * t // 2
         if not ok.any():
             continue
@@ -394,7 +394,7 @@ def _free_tiles(samples: list[np.ndarray], sigma_px: float) -> tuple[float, floa
         free = ~cv2.dilate(lifted.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
         if sums is None or sums.shape != n.shape:
             sums, counts = np.zeros(n.shape), np.zeros(n.shape)
-        sums += np.where(free, values.sum(axis=(1, 3), dtype=np.float64), 0.0)
+        sums += np.where(free, total, 0.0)
         counts += np.where(free, n, 0)
         parts.append(sub[finite & free[:, None, :, None]])
     if sums is None or counts.sum() < 100:
