@@ -5,7 +5,7 @@ mean. Read against it, a free pixel shows a darkness ``b`` (its offset, which th
 model takes out) and contact at darkness ``D`` shows ``b + D (1 - b)``: every unmixed area
 is short by the share ``b`` where full contact's darkness is not read from the image
 (the rig's optics). The reference is scaled down to the free surface's mean
-(:func:`tir_contact.reference._percentile_excess`).
+(:func:`tir_contact.reference._excess_over_free_mean`).
 
 Truths: the light the frames are drawn around (analytic), and the renderer's optical
 contact.

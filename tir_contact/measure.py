@@ -368,7 +368,7 @@ def _free_tiles(samples: list[np.ndarray], sigma_px: float) -> tuple[float, floa
     their noise (``sigma_px^2 / n`` for ``n`` values), 0 where fewer tiles tell. A fixed
     camera's reference lies above the free light's mean by a share that follows the light
     and how often the block covered each pixel
-    (:func:`tir_contact.reference._percentile_excess`); a junction field's box, every
+    (:func:`tir_contact.reference._excess_over_free_mean`); a junction field's box, every
     pixel summed against the mean, may lie where the offset differs from it by this much
     (the physical renders: 0.1-0.2 % of the light on a block's path in a small lit zone,
     1-3 % of the area of a sparse field).

@@ -3,7 +3,7 @@
 A TIR frame is read as darkness ``D = 1 - I / I_free`` against the free (contact-free)
 surface ``I_free``. When the block passes a fixed camera, each pixel's bright percentile
 over the frames is that surface, scaled down to the free surface's mean
-(:func:`_percentile_excess`: the percentile of noisy values lies above their mean, and a
+(:func:`_excess_over_free_mean`: the percentile of noisy values lies above their mean, and a
 reference too bright by a share ``b`` reads every darkness as ``b + D (1 - b)``). In a
 static test, a single photograph or a camera that follows the block, no frame shows the
 surface under the contact, and it has to be estimated from the frame itself.
@@ -606,7 +606,7 @@ class TirReference:
         when frames show the free surface.
     percentile_excess : float
         A fixed camera's bright percentile: the share by which it lay above the free
-        surface's mean, taken out of ``reference`` (:func:`_percentile_excess`); 0 else.
+        surface's mean, taken out of ``reference`` (:func:`_excess_over_free_mean`); 0 else.
     """
 
     reference: Reference
@@ -820,7 +820,7 @@ def tir_reference(
                 free, cand = fs.image, fs.candidates
                 method = "percentile, the block it still holds replaced by a fitted surface"
             if contact_is == "dark":
-                excess = _percentile_excess(frames, free, mask & ~cand)
+                excess = _excess_over_free_mean(frames, free, mask & ~cand)
                 free = free * np.float32(1.0 - excess)
         else:
             fs = free_surface(median, mask, contact_is=contact_is)
@@ -847,19 +847,22 @@ def tir_reference(
     return TirReference(ref, lit, mode, method, noise, *tex, percentile_excess=excess)
 
 
-#: Sampled frames the free surface's mean is measured on (:func:`_percentile_excess`), at
+#: Sampled frames the free surface's mean is measured on (:func:`_excess_over_free_mean`), at
 #: most: as the area model's (:data:`tir_contact.measure.MAX_FREE_FRAMES`).
 EXCESS_FRAMES = 8
 
 
-def _percentile_excess(frames: list[np.ndarray], bright: np.ndarray, free: np.ndarray
-                       ) -> float:
+def _excess_over_free_mean(frames: list[np.ndarray], bright: np.ndarray,
+                           where: np.ndarray) -> float:
     """The share ``b`` by which a fixed camera's bright percentile image lies above the free
     surface's mean: the mean darkness ``1 - I / bright`` of the free surface away from
     contact (:func:`tir_contact.measure._free_mean`: tiles whose mean lies within a few
     tile noise sigmas of the lower quartile of the tile means) in up to
-    :data:`EXCESS_FRAMES` of the `frames`, over the pixels `free` (the lit zone less the
-    contact the percentile image still holds). 0 where fewer than 100 pixels tell.
+    :data:`EXCESS_FRAMES` of the `frames`, over the pixels `where` (the lit zone less
+    the contact the percentile image still holds). 0 where fewer than 100 pixels tell.
+
+    (Not :func:`tir_contact.tir_view._percentile_excess`, the expected excess of a normal
+    sample's percentile, with which a user's reference is fitted: this one is measured.)
 
     Each pixel's 90th percentile over 32 noisy frames lies about 1.2 noise sigmas above its
     mean (1-2 % of the light in the renders), and more where the block covered the pixel in
@@ -873,13 +876,13 @@ def _percentile_excess(frames: list[np.ndarray], bright: np.ndarray, free: np.nd
     frames (:func:`_residuals`, the first four frames), robust, against the median light.
     """
     few = frames[::max(1, math.ceil(len(frames) / EXCESS_FRAMES))]
-    light = bright[free]
+    light = bright[where]
     if light.size < 100 or not np.isfinite(light).all() or float(np.median(light)) <= 0:
         return 0.0
     # the noise only sets the tiles' test: three differences, every 4th pixel, tell it
-    diffs = np.concatenate([r[free][::4] for r in _residuals(frames[:4], bright)])
+    diffs = np.concatenate([r[where][::4] for r in _residuals(frames[:4], bright)])
     sigma = 1.4826 * float(np.median(np.abs(diffs))) / float(np.median(light[::4]))
-    inv = np.where(free, 1.0 / np.maximum(bright, 1e-6), np.nan).astype(np.float32)
+    inv = np.where(where, 1.0 / np.maximum(bright, 1e-6), np.nan).astype(np.float32)
     darkness = [1.0 - np.asarray(f, np.float32) * inv for f in few]
     b = _free_mean(darkness, sigma)
     return float(b) if math.isfinite(b) else 0.0
