@@ -1062,6 +1062,24 @@ def _unmixed_part(u: np.ndarray, edge: np.ndarray, zone: np.ndarray, zone_un: np
     return zone_un, missed / model.contact_darkness, model.offset
 
 
+def _zone_sd(model: AreaModel, n_z: int, n_un: int) -> float:
+    """Standard deviation (px of area) of a zone of `n_z` pixels read against the free
+    surface, `n_un` of them summed (unmixed beyond the resolved contact): the free
+    surface's fluctuation summed over the zone (correlated over ``corr_px``), the
+    uncertainty of its mean, a static scene's light the estimate continues over the
+    contact but cannot follow there, and graded contact's summed pixels lying where the
+    free surface's offset differs from its mean by its spread between places (not averaged
+    down over the pixels: it is the light's and the block's path's, not noise)."""
+    if not n_z:
+        return 0.0
+    sd_sum = model.sigma_free * math.sqrt(n_z * model.corr_px)
+    sd_b = n_z * model.sigma_free * math.sqrt(model.corr_px / max(model.n_free, 1))
+    sd_zone = model.zone_sigma * math.sqrt(n_z * model.zone_corr_px)
+    sd_place = n_un * model.field_offset_spread
+    total = math.sqrt(sd_sum ** 2 + sd_b ** 2 + sd_zone ** 2 + sd_place ** 2)
+    return total / model.contact_darkness
+
+
 def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None = None, *,
                half: np.ndarray | None = None, seeds: np.ndarray | None = None,
                finite: np.ndarray | None = None) -> FrameArea:
@@ -1142,20 +1160,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     n_z = int(np.count_nonzero(zone_res)) + n_un
     with np.errstate(invalid="ignore"):
         res_lo = int(np.count_nonzero(resolved & (d >= t_hi)))
-    # the unresolved part over c's range; both parts' noise: the free surface's fluctuation
-    # summed over the zone (correlated over corr_px) and the uncertainty of b
-    sd = 0.0
-    if n_z:
-        sd_sum = model.sigma_free * math.sqrt(n_z * model.corr_px)
-        sd_b = n_z * model.sigma_free * math.sqrt(model.corr_px / max(model.n_free, 1))
-        # a static scene: the light the free surface estimate continues over the contact
-        # but cannot follow there
-        sd_zone = model.zone_sigma * math.sqrt(n_z * model.zone_corr_px)
-        # graded contact: the pixels summed against the free surface's mean may lie where
-        # its offset differs from the mean by its spread between places (not averaged
-        # down over the pixels: it is the light's and the block's path's, not noise)
-        sd_place = n_un * model.field_offset_spread
-        sd = math.sqrt(sd_sum ** 2 + sd_b ** 2 + sd_zone ** 2 + sd_place ** 2) / c
+    # the unresolved part over c's range; both parts' noise
+    sd = _zone_sd(model, n_z, n_un)
     area = part_res + excess_un / c
     res_alone = min(part_res, res_lo)  # the resolved part's low end
     low = res_alone + excess_un / max(model.contact_high, 1e-6) - BAND_SIGMAS * sd
