@@ -169,11 +169,14 @@ def test_unclosed_quote_is_named_by_data_row_and_file_line(run_cli, tmp_path, ca
     assert "never closed" in err[0] and "EOF" not in err[0]
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")
 def test_black_footage_keeps_the_starting_closing():
     # a black image has no light to lose: no contact candidate, so no reason to grow the
     # closing disc (before: every pixel a candidate, the disc grown to twice the image,
-    # 30 times the time of a normal clip; benchmarks/bench_report.py times it)
+    # 30 times the time of a normal clip; benchmarks/bench_report.py times it); nor any
+    # texture to measure (before: the median of no values, a RuntimeWarning and NaN)
     fs = free_surface(np.zeros((128, 320), np.float32), size_px=101)
     assert fs.size_px == 101
     assert not fs.candidates.any()
     assert np.all(fs.image == 0)
+    assert fs.texture_sigma == 0.0 and fs.texture_corr_px == 1.0

@@ -386,6 +386,8 @@ def _texture(smooth: np.ndarray, free: np.ndarray) -> tuple[float, float]:
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(free & (field > 0), smooth / np.maximum(field, 1e-6) - 1.0, np.nan)
     values = t[np.isfinite(t)]
+    if values.size < 100:  # no light to measure it on (black footage)
+        return 0.0, 1.0
     mid = float(np.median(values))
     sigma = float(1.4826 * np.median(np.abs(values - mid)))
     return sigma, correlation_area([t], mid, sigma)
