@@ -392,7 +392,7 @@ def _free_tiles(samples: list[np.ndarray], sigma_px: float) -> tuple[float, floa
         level = float(np.percentile(mean[ok], 25.0)) + 5.0 * sigma_px / t
         lifted = (mean > level) | ~ok
         free = ~cv2.dilate(lifted.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
-        if sums is None or sums.shape != n.shape:
+        if sums is None:
             sums, counts = np.zeros(n.shape), np.zeros(n.shape)
         sums += np.where(free, total, 0.0)
         counts += np.where(free, n, 0)

@@ -798,6 +798,7 @@ def tir_reference(
     mask = lit.mask
     tex = (0.0, 1.0)  # the texture a static scene's estimate does not follow (below)
     excess = 0.0  # a fixed camera's percentile over the free surface's mean (below)
+    residuals: list[np.ndarray] | None = None  # the noise model's, once made
     if image is not None:
         free = np.asarray(image, np.float32)
         mode, method, cand = "fixed", "file", np.zeros(shape, bool)
@@ -822,7 +823,10 @@ def tir_reference(
                 free, cand = fs.image, fs.candidates
                 method = "percentile, the block it still holds replaced by a fitted surface"
             if contact_is == "dark":
-                excess = _excess_over_free_mean(frames, free, mask & ~cand)
+                # the noise model's residuals (frame differences: the free surface's scale
+                # does not enter) also set the excess's tile test
+                residuals = _residuals(frames, free)
+                excess = _excess_over_free_mean(frames, free, mask & ~cand, residuals[:3])
                 free = free * np.float32(1.0 - excess)
         else:
             fs = free_surface(median, mask, contact_is=contact_is)
@@ -844,7 +848,9 @@ def tir_reference(
         level = max(float(np.percentile(f[::2, ::2], 99.9)) for f in frames)
         free = np.maximum(free, np.float32(BRIGHT_FLOOR * level))
     away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
-    noise = noise_model(_residuals(frames, free), free, away)
+    if residuals is None:
+        residuals = _residuals(frames, free)
+    noise = noise_model(residuals, free, away)
     ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))
     return TirReference(ref, lit, mode, method, noise, *tex, percentile_excess=excess)
 
@@ -855,7 +861,7 @@ EXCESS_FRAMES = 8
 
 
 def _excess_over_free_mean(frames: list[np.ndarray], bright: np.ndarray,
-                           where: np.ndarray) -> float:
+                           where: np.ndarray, diffs: list[np.ndarray]) -> float:
     """The share ``b`` by which a fixed camera's bright percentile image lies above the free
     surface's mean: the mean darkness ``1 - I / bright`` of the free surface away from
     contact (:func:`tir_contact.measure._free_mean`: tiles whose mean lies within a few
@@ -874,16 +880,16 @@ def _excess_over_free_mean(frames: list[np.ndarray], bright: np.ndarray,
     rig's optics, an assumed value) every unmixed area came out short by ``b`` (the
     physical renders' junction fields: 1.6-2.6 % below their optical contact). Scaling the
     percentile image by ``1 - b`` makes it the free surface's mean: ``I / I_free``
-    exactly. Its noise sets the tile test: the spread of the differences of consecutive
-    frames (:func:`_residuals`, the first four frames), robust, against the median light.
+    exactly. Its noise sets the tile test: the spread of `diffs` (differences of
+    consecutive frames over sqrt 2, :func:`_residuals`), robust, against the median light.
     """
     few = frames[::max(1, math.ceil(len(frames) / EXCESS_FRAMES))]
     light = bright[where]
     if light.size < 100 or not np.isfinite(light).all() or float(np.median(light)) <= 0:
         return 0.0
-    # the noise only sets the tiles' test: three differences, every 4th pixel, tell it
-    diffs = np.concatenate([r[where][::4] for r in _residuals(frames[:4], bright)])
-    sigma = 1.4826 * float(np.median(np.abs(diffs))) / float(np.median(light[::4]))
+    # the noise only sets the tiles' test: every 4th pixel tells it
+    values = np.concatenate([r[where][::4] for r in diffs])
+    sigma = 1.4826 * float(np.median(np.abs(values))) / float(np.median(light[::4]))
     inv = np.where(where, 1.0 / np.maximum(bright, 1e-6), np.nan).astype(np.float32)
     darkness = [1.0 - np.asarray(f, np.float32) * inv for f in few]
     b = _free_mean(darkness, sigma)
