@@ -330,9 +330,11 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
 
     Ranges (uniform unless said): the camera, light, sensor and ice of :func:`sample_spec`
     (the lit zone drawn for its static view and scaled with the view: the same share of the
-    frame, its rim as many pixels) with the static pixel scale 0.004-0.03 mm/px for the pad
-    and the sphere (junctions from a fifth of a pixel to several pixels wide) and 0.05-0.12
-    mm/px for the block, rotation 0; roughness any of
+    frame, its rim as many pixels; the ice's bubbles and scratches drawn as densities over
+    the thesis's field of view and counted in this one, :func:`_ice_flaws_in_view`, none of
+    them bubbles on glass; the camera's dust as drawn, in pixels) with the static pixel
+    scale 0.004-0.03 mm/px for the pad and the sphere (junctions from a fifth of a pixel to
+    several pixels wide) and 0.05-0.12 mm/px for the block, rotation 0; roughness any of
     :data:`synthetic.roughness.ROUGHNESS_PRESETS`; pressure 0.5-4 bar;
     a lens blur of 0-1.5 px; a free-surface texture of 0-0.15 (rms, correlation 0.02-0.2
     mm) in half of the clips; substrate ice (glass in a quarter of the clips); pad radius
@@ -401,8 +403,46 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
                           pad_radius_mm=_u(rng, 0.3, 0.45) * min(w_mm, h_mm))
         else:
             fields.update(scene="rough_sphere", sphere_radius_mm=_u(rng, 2.0, 8.0))
+    cam.update(_ice_flaws_in_view(cam, fields["seed"], glass=fields["substrate"] == "glass"))
     spec = FootageSpec(camera=CameraSettings(**cam), **fields)
     return spec, case
+
+
+#: The field of view (mm^2) over which the ice flaws drawn for a clip (0-40 bubbles, 0-10
+#: scratches) lie: the thesis's 640 x 256 px at 0.1 mm/px, where the renderer's defaults (12
+#: bubbles, the few of Fig. 4.20 b; 5 scratches) hold. The physical world's views are
+#: 0.6-38 mm wide: its ice has the flaws of that field per unit area.
+FLAW_FIELD_MM = (64.0, 25.6)
+#: Mean length of a scratch, mm (the renderer draws 3-20 mm).
+_SCRATCH_MEAN_MM = 11.5
+
+
+def _ice_flaws_in_view(cam: dict[str, Any], seed: int, *, glass: bool) -> dict[str, int]:
+    """The bubbles and scratches a physical clip's view holds: the counts drawn for the
+    domain's view (``cam``'s, per :data:`FLAW_FIELD_MM`) as densities of the ice, seen in
+    this view.
+
+    Bubbles (0.05-0.3 mm, frozen into the ice) are counted by area, scratches (3-20 mm
+    long, far longer than a micro view) by the ones that cross it: their starts over the
+    view and a margin of its perimeter times the mean length over pi (Buffon). Each count
+    is a Poisson draw with that mean from a generator of its own, seeded by the clip's
+    seed (the draws of the clip's other fields stay as they were). Glass holds no bubbles.
+
+    The domain's counts were kept per view at the physical world's 0.004-0.12 mm/px: a
+    1.3 mm view held up to 40 bubbles of 0.05-0.3 mm (more than it can show side by side,
+    1000 times the thesis's ice), which the static scenes read as contact; a bug of the
+    kind of the lit rim left at the domain's scale.
+    """
+    w_mm, h_mm = cam["width_px"] * cam["mm_per_px"], cam["height_px"] * cam["mm_per_px"]
+    field_w, field_h = FLAW_FIELD_MM
+
+    def crossing(w: float, h: float) -> float:  # scratches seen, per scratch start density
+        return w * h + 2.0 * (w + h) * _SCRATCH_MEAN_MM / math.pi
+
+    rng = np.random.default_rng([int(seed), 0x1CE])
+    bubbles = 0.0 if glass else cam["n_bubbles"] * w_mm * h_mm / (field_w * field_h)
+    scratches = cam["n_scratches"] * crossing(w_mm, h_mm) / crossing(field_w, field_h)
+    return {"n_bubbles": int(rng.poisson(bubbles)), "n_scratches": int(rng.poisson(scratches))}
 
 
 def sample_physical_specs(n: int, seed: int | None = 0) -> list[tuple[FootageSpec, str]]:

@@ -179,3 +179,62 @@ def test_physical_draws_light_the_view_as_the_domain_does():
     assert len(rims) >= 30  # three quarters of the draws have a lit zone
     assert min(rims) >= 0.3 / 0.08 * (1 - 1e-9) and max(rims) <= 3.0 / 0.03 * (1 + 1e-9), (
         min(rims), max(rims))
+
+
+def test_physical_ice_holds_the_flaws_of_the_thesis_ice_per_area():
+    """The physical world's views (0.6-38 mm wide) hold the ice's flaws drawn for the thesis's
+    64 x 25.6 mm field as densities: bubbles by area, scratches (3-20 mm) by the ones that
+    cross the view (Buffon: starts over the view and a margin of its perimeter times the mean
+    length over pi), none of them bubbles on glass; Poisson counts from the clip's seed.
+    Independent truth: the means of those laws over 4000 seeds, within 5 standard errors
+    of a Poisson mean (never reached by chance: a failure is a broken law)."""
+    from synthetic.domain import FLAW_FIELD_MM, _ice_flaws_in_view
+
+    field_w, field_h = FLAW_FIELD_MM
+    # the thesis's field itself: the counts as drawn
+    full = {"width_px": 640, "height_px": 256, "mm_per_px": field_w / 640,
+            "n_bubbles": 40, "n_scratches": 10}
+    # a 2 x 1.5 mm micro view: 40 bubbles per field are 0.073 here
+    micro = {**full, "width_px": 200, "height_px": 150, "mm_per_px": 0.01}
+    crossing = (2.0 * 1.5 + 2 * 3.5 * 11.5 / math.pi) / (
+        field_w * field_h + 2 * (field_w + field_h) * 11.5 / math.pi)
+    n = 4000
+    for cam, bubbles, scratches in ((full, 40.0, 10.0),
+                                    (micro, 40 * 3.0 / (field_w * field_h), 10 * crossing)):
+        got = [_ice_flaws_in_view(cam, seed, glass=False) for seed in range(n)]
+        for key, mean in (("n_bubbles", bubbles), ("n_scratches", scratches)):
+            values = np.array([g[key] for g in got])
+            assert abs(values.mean() - mean) < 5 * math.sqrt(mean / n), (key, values.mean(), mean)
+    assert all(_ice_flaws_in_view(full, s, glass=True)["n_bubbles"] == 0 for s in range(50))
+    # the same clip seed, the same flaws
+    assert _ice_flaws_in_view(micro, 3, glass=False) == _ice_flaws_in_view(micro, 3, glass=False)
+
+
+def test_physical_draws_keep_their_other_fields_and_scale_their_flaws(monkeypatch):
+    """The flaws come from a generator of their own: every other field of every draw is the
+    one the sampler gives with the domain's counts left in place (the law replaced by one
+    that keeps them), and a static scene's micro view holds far fewer than the 0-40
+    bubbles drawn for the domain's view."""
+    import synthetic.domain as domain
+
+    specs = domain.sample_physical_specs(40, seed=2)
+    static = [s for s, _ in specs if s.is_static]
+    assert static
+    # the domain draws 20 on average per view; a static view of at most 10 x 10 mm holds
+    # under 20 * 100 / 1638 = 1.2 on average
+    mean_bubbles = np.mean([s.camera.n_bubbles for s in static])
+    assert mean_bubbles < 1.2, mean_bubbles
+    assert all(s.camera.n_bubbles == 0 for s, _ in specs if s.substrate == "glass")
+    monkeypatch.setattr(domain, "_ice_flaws_in_view", lambda cam, seed, glass: {
+        "n_bubbles": cam["n_bubbles"], "n_scratches": cam["n_scratches"]})
+    kept = domain.sample_physical_specs(40, seed=2)
+    flaws = {"n_bubbles", "n_scratches"}
+    assert any(s.camera.n_bubbles != k.camera.n_bubbles
+               for (s, _), (k, _) in zip(specs, kept, strict=True))
+    for (s, case), (k, case_k) in zip(specs, kept, strict=True):
+        assert case == case_k
+        a, b = s.to_dict(), k.to_dict()
+        cam_a, cam_b = a.pop("camera"), b.pop("camera")
+        assert a == b
+        assert {x: v for x, v in cam_a.items() if x not in flaws} == {
+            x: v for x, v in cam_b.items() if x not in flaws}

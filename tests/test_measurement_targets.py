@@ -67,25 +67,29 @@ def _all(summary, key):
 
 
 @needs_tamaas
-@pytest.mark.xfail(strict=True, reason="issue 21: sub-pixel junctions and texture; measured "
-                   "on e61c71b: 2-178 % per clip over the subset")
+@pytest.mark.xfail(strict=True, reason="issue 21: sub-pixel junctions beyond the zone of "
+                   "resolved contact in static scenes; measured on the ice of the thesis's "
+                   "flaw density: 3-57 % per clip over the subset (2-178 % on the crowded "
+                   "ice of the draws before, e61c71b)")
 def test_physical_area_error_median_within_2_percent(physical_summary):
     assert _all(physical_summary, "area_err_pct median") <= MEASUREMENT_TARGETS[
         "area_err_pct median"]
 
 
 @needs_tamaas
-@pytest.mark.xfail(strict=True, reason="issue 21: the worst physical clips are far off")
+@pytest.mark.xfail(strict=True, reason="issue 21: the worst physical clips are far off "
+                   "(rough pad draw 6: 57 % low, its junctions beyond the zone)")
 def test_physical_area_error_p95_within_8_percent(physical_summary):
     assert _all(physical_summary, "area_err_pct p95") <= MEASUREMENT_TARGETS["area_err_pct p95"]
 
 
 @needs_tamaas
 def test_physical_truth_inside_the_error_bar_in_90_percent_of_frames(physical_summary):
-    """Item 2's target on the subset: 29 of its 32 frames (90.6 %) since a static scene's
-    bar reaches up to the significant seed clusters beyond the zone around resolved
-    contact (rough pad draw 6: its junctions up to 30 px beyond the resolved ones, 1 of 4
-    frames; it was 0 of 4 and the subset 87.5 %; e61c71b: 75 %)."""
+    """Item 2's target on the subset: 31 of its 32 frames (96.9 %; rough pad draw 6, its
+    junctions up to 30 px beyond the resolved ones, 3 of 4). On the crowded ice of the
+    draws before their flaws were read as densities: 29 of 32 once a static scene's bar
+    reached up to the significant seed clusters beyond the zone around resolved contact
+    (draw 6 1 of 4; it was 0 of 4 and the subset 87.5 %; e61c71b: 75 %)."""
     assert "in_band_pct" in physical_summary, "frames.csv has no contact_area_low/high_mm2"
     assert _all(physical_summary, "in_band_pct") >= MEASUREMENT_TARGETS["in_band_pct"]
 
@@ -184,22 +188,29 @@ def test_table_rough_pad_under_stray_light():
     _check(row, 8.0)
 
 
+#: Rough pad draw 11 on bubbly ice: the 33 bubbles and 4 scratches the domain's counts put
+#: into its 1.3 mm view before they were read as densities of the thesis's ice
+#: (synthetic.domain._ice_flaws_in_view), kept here as the case an empty frame is for.
+BUBBLY_ICE = {"n_bubbles": 33, "n_scratches": 4}
+
+
 @needs_tamaas
-@pytest.mark.parametrize("index", [6, 11])
-def test_static_rough_pad_with_its_empty_frame_reads_its_optical_contact(index):
+@pytest.mark.parametrize("index, flaws", [(6, None), (11, BUBBLY_ICE)])
+def test_static_rough_pad_with_its_empty_frame_reads_its_optical_contact(index, flaws):
     """The rig's own empty frame (synthetic.table.empty_reference: one frame, 0.87x
     exposure, shifted by 3, -2 px) as ``--reference``: the free surface under the pad is
-    measured instead of estimated from the image. The two worst static draws of the subset
-    read far off without it (on the full clips: draw 6 55 % low, its junctions beyond the
-    zone around resolved contact; draw 11 190 % high, 33 bubbles read as contact) and
-    within 10 % of their optical contact with it (9.3 and 0.1 % on the full clips; the
-    short clips' 4 frames: 57.5 -> 9.5 % and 190 -> 0.1 %). Tolerance 12.5 %: a quarter
-    above the p95 of the nine static draws of seed 0 with their empty frames against their
-    optical contact (10.0 %; median 1.2 %; 137 % p95 without)."""
+    measured instead of estimated from the image. Two static pads read far off without it
+    (the short clips' 4 frames, measured against their optical contact): draw 6 59 % low,
+    its junctions beyond the zone around resolved contact; draw 11 on bubbly ice 188 %
+    high, its bubbles read as contact. With it: 9.4 % and 0.1 %. Tolerance 12.5 %: a
+    quarter above the p95 of the nine static draws of seed 0 with their empty frames
+    against their optical contact (10.0 %; median 1.2 %)."""
     from synthetic.domain import sample_physical_specs
 
     spec, case = sample_physical_specs(12, seed=0)[index]
     assert case == "tir rough pad"
+    if flaws is not None:
+        spec = dataclasses.replace(spec, camera=dataclasses.replace(spec.camera, **flaws))
     row = validate_clip(_short(spec), case, index, reference=True)
     assert row["case"] == "tir rough pad, empty frame"
     assert abs(row["optical_err_pct"]) <= 12.5, row
