@@ -145,3 +145,18 @@ def test_a_rubber_of_another_index_stays_inside_the_bar(tmp_path, monkeypatch):
     assert any("on ice (n 1.31) at 60 deg, Fresnel" in w for w in res.summary["warnings"])
     assert (frames["contact_area_low_mm2"] <= optical).all()
     assert (optical <= frames["contact_area_high_mm2"]).all()
+
+
+def test_optics_that_cannot_be_used_are_an_error_naming_the_metadata_file(render_clip,
+                                                                          tmp_path):
+    import json
+
+    from tir_contact.analyze import AnalysisOptions, analyze_video
+
+    folder = render_clip(tmp_path / "clip", n_frames=8)
+    meta = json.loads((folder / "meta.json").read_text())
+    meta["optics"] = {"substrate": "glass", "incidence_deg": 85.0}
+    (folder / "meta.json").write_text(json.dumps(meta))
+    with pytest.raises(FootageError, match=r"meta\.json: 'optics\.incidence_deg' must lie"):
+        analyze_video(folder, options=AnalysisOptions(overlay_video=False, plots=False,
+                                                      overlay_frames=0))
