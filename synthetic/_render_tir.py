@@ -820,6 +820,10 @@ def block_row(
     }
 
 
+#: Length range of the ice's scratches, mm (uniform): a track used a few times.
+SCRATCH_LENGTH_MM = (3.0, 20.0)
+
+
 def ice_transmission(
     path: PathGeometry,
     *,
@@ -863,7 +867,7 @@ def ice_transmission(
         out[r0:r1, c0:c1] *= 1.0 - inside * prof
     for _ in range(n_scratches):
         x0, y0 = rng.uniform(0, path.width_mm), rng.uniform(0, path.height_mm)
-        length = rng.uniform(3.0, 20.0)
+        length = rng.uniform(*SCRATCH_LENGTH_MM)
         ang = rng.uniform(0.0, math.pi)
         width = rng.uniform(0.03, 0.1)
         a = rng.uniform(0.1, 0.25)

@@ -68,6 +68,7 @@ from typing import Any
 import numpy as np
 
 from synthetic._lighting import LIT_SHAPES
+from synthetic._render_tir import SCRATCH_LENGTH_MM
 from synthetic.footage import CameraSettings, FootageSpec
 
 __all__ = [
@@ -408,13 +409,16 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
     return spec, case
 
 
-#: The field of view (mm^2) over which the ice flaws drawn for a clip (0-40 bubbles, 0-10
-#: scratches) lie: the thesis's 640 x 256 px at 0.1 mm/px, where the renderer's defaults (12
-#: bubbles, the few of Fig. 4.20 b; 5 scratches) hold. The physical world's views are
-#: 0.6-38 mm wide: its ice has the flaws of that field per unit area.
-FLAW_FIELD_MM = (64.0, 25.6)
-#: Mean length of a scratch, mm (the renderer draws 3-20 mm).
-_SCRATCH_MEAN_MM = 11.5
+#: The field of view (width, height, mm) over which the ice flaws drawn for a clip (0-40
+#: bubbles, 0-10 scratches) lie: the renderer's default camera, the thesis's 640 x 256 px at
+#: 0.1 mm/px, where its default flaws (12 bubbles, the few of Fig. 4.20 b; 5 scratches)
+#: hold. The physical world's views are 0.6-38 mm wide: its ice has the flaws of that field
+#: per unit area.
+_THESIS_CAMERA = CameraSettings()
+FLAW_FIELD_MM = (_THESIS_CAMERA.width_px * _THESIS_CAMERA.mm_per_px,
+                 _THESIS_CAMERA.height_px * _THESIS_CAMERA.mm_per_px)
+#: Mean length of a scratch, mm (the renderer's uniform range).
+_SCRATCH_MEAN_MM = sum(SCRATCH_LENGTH_MM) / 2
 
 
 def _ice_flaws_in_view(cam: dict[str, Any], seed: int, *, glass: bool) -> dict[str, int]:
