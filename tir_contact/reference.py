@@ -16,7 +16,11 @@ Method of :func:`free_surface` (no contact size known in advance):
    dome-shaped (vignetted) light field as it is.
 3. Contact candidates are the lit pixels darker than that closing by more than
    ``candidate_darkness``, with holes filled: a contact wider than the disc is only found
-   along its edge, as a ring, and the fill makes it whole.
+   along its edge, as a ring, and the fill makes it whole. A candidate whose edge is
+   softer than the optics make a contact's (:data:`MAX_EDGE_PX`), or a clean step softer
+   than the other contacts of the same image, smooth inside and lighter than them
+   (:data:`EDGE_RATIO`: a fold of the light), is light, not contact; a region found to
+   be light at one disc size stays light at the others.
 4. The disc must be wider than every candidate: when the widest candidate (twice its
    largest inscribed radius) needs more, the disc grows to 1.5 times that plus 10 px and
    steps 2-4 repeat. A contact wider than the disc that reaches the image border (a block
@@ -114,34 +118,175 @@ CORE_DARKNESS = ASSUMED_FULL_DARKNESS / 2
 MAX_EDGE_PX = 8.0
 
 
+#: A candidate whose edge is a clean step (half-depth width, :func:`_half_depth_widths`,
+#: at most :data:`MAX_EDGE_PX`) but more than this many times as wide as the sharpest step
+#: in the same image, eased in at its foot, smooth inside and lighter than that image's
+#: contacts, is light falling off (a fold), not contact (:func:`_light`). Every contact of
+#: one image is seen through the same optics, so their steps are equally sharp: the sharp
+#: contacts of the domain, the table and the physical scenes read 3.9-4.7 px (the 1.5 px
+#: smoothing alone: 3.8); the 0.3 mm fold of issue 21's table at 0.036 mm/px reads 6.5-6.7
+#: px against 4.2-4.5 for the contacts beside it (1.5 times), which the foot width of
+#: :func:`_edge_widths` put on either side of :data:`MAX_EDGE_PX` by the seed (three of
+#: six seeds read the fold as contact, 180-200 % high). A fold within this factor of the
+#: contacts' steps (a 0.15 mm fold here, 4 px) is not told apart from contact: an empty
+#: frame (``--reference``) is.
+EDGE_RATIO = 1.35
+#: The sharpest step the 1.5 px smoothing leaves (sqrt(2 pi) * 1.5 px): a narrower reading
+#: is noise, not a sharper optics.
+STEP_FLOOR_PX = math.sqrt(2.0 * math.pi) * SMOOTH_SIGMA_PX
+#: Texture (the spread of the darkness about its 3 px Gaussian average) of a candidate's
+#: inside over that of the free surface, below which the inside is smooth: light carries
+#: the free surface's noise and texture, with some of its own ramp (a fold reads 2.3-4.3);
+#: contact carries its real-contact patches and junctions (12-2400 where an edge is as
+#: soft).
+SMOOTH_TEXTURE = 8.0
+#: Half-depth pixels a region needs for its step width to be measured (a contact of
+#: radius 5 px has about 60).
+MIN_EDGE_SAMPLES = 50
+
+
 def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
-           lit: np.ndarray, grad: np.ndarray) -> np.ndarray:
+           lit: np.ndarray, grad: np.ndarray, light: np.ndarray | None = None) -> np.ndarray:
     """The sharp-edged part of the candidates `cand`: each 8-connected region whose edge
-    width (:func:`_edge_widths`) is at most :data:`MAX_EDGE_PX`; of a soft region (light
-    falling off, a fold), the sharp regions darker than half of full contact inside it (a
-    contact that lies in the fold), with the soft region's pixels within
-    :data:`MARGIN_PX` of them. `grad` is :func:`_gradient` of `smooth`."""
+    width (:func:`_edge_widths`) is at most :data:`MAX_EDGE_PX` and that is not light
+    falling off by its step (:func:`_light`); of a soft region (light falling off, a
+    fold), the sharp regions darker than half of full contact inside it (a contact that
+    lies in the fold) that are not light by their step either, with the soft region's
+    pixels within :data:`MARGIN_PX` of them. `grad` is :func:`_gradient` of `smooth`.
+
+    `light` (updated in place): the regions found to be light so far (at other disc
+    sizes); a region at least half in it is light too."""
     if not cand.any():
         return cand
     depth = closed - smooth
     with np.errstate(divide="ignore", invalid="ignore"):
         d = np.where(closed > 0, depth / np.maximum(closed, 1e-6), 0.0)
+        rel = np.where(closed > 0, grad / np.maximum(closed, 1e-6), 0.0)
     n, lab = cv2.connectedComponents(cand.astype(np.uint8), connectivity=8, ltype=cv2.CV_32S)
-    keep = _edge_widths(lab, n, grad, depth, lit) <= MAX_EDGE_PX
+    foot = _edge_widths(lab, n, grad, depth, lit)
+    keep = foot <= MAX_EDGE_PX
     keep[0] = False
+    texture = _Texture(d, cand, lit)
+    steps, cores = _half_depth_widths(lab, n, d, rel, lit)
+    measured = keep & np.isfinite(steps)
+    if measured.any():
+        sharpest = max(float(steps[measured].min()), STEP_FLOOR_PX)
+        darkest = float(cores[measured & (steps <= EDGE_RATIO * sharpest)].max())
+        found = _light(lab, n, foot, steps, cores, sharpest, darkest, texture)
+        if light is not None:
+            sizes = np.bincount(lab.ravel(), minlength=n)
+            found |= 2 * np.bincount(lab[light], minlength=n) >= np.maximum(sizes, 1)
+            found[0] = False
+            light |= found[lab]
+        keep &= ~found
     out = keep[lab]
     soft = cand & ~out
     core = soft & (d > CORE_DARKNESS)
     if core.any():
         m, clab = cv2.connectedComponents(core.astype(np.uint8), connectivity=8,
                                           ltype=cv2.CV_32S)
-        ck = _edge_widths(clab, m, grad, depth, lit) <= MAX_EDGE_PX
+        c_foot = _edge_widths(clab, m, grad, depth, lit)
+        ck = c_foot <= MAX_EDGE_PX
+        if measured.any():
+            c_steps, c_cores = _half_depth_widths(clab, m, d, rel, lit)
+            ck &= ~_light(clab, m, c_foot, c_steps, c_cores, sharpest, darkest, texture)
         ck[0] = False
         sharp_core = ck[clab]
         if sharp_core.any():
             near = cv2.dilate(sharp_core.astype(np.uint8), cv2.getStructuringElement(
                 cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
             out |= near & soft
+    return out
+
+
+def _light(lab: np.ndarray, n: int, foot: np.ndarray, steps: np.ndarray, cores: np.ndarray,
+           sharpest: float, darkest: float, texture: _Texture) -> np.ndarray:
+    """Which labelled regions are light falling off by their step (:data:`EDGE_RATIO`): a
+    clean step (at most :data:`MAX_EDGE_PX` wide, and its `foot` width, :func:`_edge_widths`,
+    at least as wide: light that falls off smoothly eases in at its foot, as does any
+    blurred step, where a junction field's sharp rim and the coverage grading inside it
+    do not) more than :data:`EDGE_RATIO` times as wide as the image's `sharpest`, a
+    smooth inside (:data:`SMOOTH_TEXTURE`) and a core lighter than the `darkest` core
+    among the image's sharp steps (a smooth contact at full darkness, or as dark as the
+    image's other contacts, stays contact)."""
+    with np.errstate(invalid="ignore"):
+        soft = ((steps > EDGE_RATIO * sharpest) & (steps <= MAX_EDGE_PX) & (foot >= steps)
+                & (cores < darkest))
+    if not soft[1:].any():
+        return soft
+    tex = texture.ratio(lab, n)
+    with np.errstate(invalid="ignore"):
+        return soft & (tex <= SMOOTH_TEXTURE)
+
+
+class _Texture:
+    """The darkness's spread about its 3 px Gaussian average (1.4826 MAD) inside regions
+    (eroded by 3 px, :data:`_TEXTURE_MIN_PX` pixels at least) over that of the lit free
+    surface 7 px or more from the candidates."""
+
+    def __init__(self, d: np.ndarray, cand: np.ndarray, lit: np.ndarray) -> None:
+        d32 = d.astype(np.float32)
+        self.res = np.abs(d32 - cv2.GaussianBlur(d32, (0, 0), 3.0))
+        far = cv2.dilate(cand.astype(np.uint8), np.ones((15, 15), np.uint8)).astype(bool)
+        free = self.res[lit & ~far]
+        self.free = (1.4826 * float(np.median(np.abs(free - np.median(free))))
+                     if free.size >= 100 else math.nan)
+
+    def ratio(self, lab: np.ndarray, n: int) -> np.ndarray:
+        """Texture of each region over the free surface's (NaN: too small, or no free
+        surface to compare with)."""
+        inner = cv2.erode((lab > 0).astype(np.uint8), np.ones((7, 7), np.uint8)).astype(bool)
+        keys = lab[inner]
+        counts = np.bincount(keys, minlength=n)
+        out = np.full(n, math.nan)
+        if not math.isfinite(self.free) or self.free <= 0:
+            return out
+        spread = 1.4826 * _group_quantiles(keys, self.res[inner], n, 0.5)
+        ok = counts >= _TEXTURE_MIN_PX
+        out[ok] = spread[ok] / self.free
+        return out
+
+
+#: Inside pixels a region needs for its texture to be measured.
+_TEXTURE_MIN_PX = 30
+#: Share of a region's core depth between which its step is read (where a blurred step's
+#: gradient is within 25 % of its peak).
+_HALF_BAND = (0.35, 0.65)
+
+
+def _half_depth_widths(lab: np.ndarray, n: int, d: np.ndarray, rel: np.ndarray,
+                       lit: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Step width (px) of each labelled region (NaN where it has fewer than
+    :data:`MIN_EDGE_SAMPLES` step pixels), and its core depth (the 90th percentile of its
+    darkness `d` against the closing): that depth over the median relative gradient `rel`
+    of the lit pixels of it and its 2 px margin whose darkness lies within
+    :data:`_HALF_BAND` of it. A step blurred by a Gaussian of sigma s reads sqrt(2 pi) s
+    whatever its depth, where the foot width (:func:`_edge_widths`) grows with the depth."""
+    widths = np.full(n, math.nan)
+    inside = lab > 0
+    core = _group_quantiles(lab[inside], d[inside], n, 0.9)
+    # the region and its 2 px margin (labels are exact in float32 below 2**24)
+    owner = cv2.dilate(lab.astype(np.float32), np.ones((5, 5), np.uint8)).astype(np.int32)
+    level = core[owner]
+    band = (owner > 0) & lit & (d >= _HALF_BAND[0] * level) & (d <= _HALF_BAND[1] * level)
+    g, has = _group_medians(owner[band], rel[band], n)
+    counts = np.bincount(owner[band], minlength=n)
+    ok = has & (counts >= MIN_EDGE_SAMPLES) & (g > 0)
+    ok[0] = False
+    widths[ok] = core[ok] / g[ok]
+    return widths, core
+
+
+def _group_quantiles(keys: np.ndarray, values: np.ndarray, n: int, q: float) -> np.ndarray:
+    """The `q` quantile (the value at rank ``floor(q (count - 1))``) of `values` for each
+    key in ``0..n-1``, 0 for keys that do not occur; one sort for all keys."""
+    order = np.lexsort((values, keys))
+    v = values[order]
+    counts = np.bincount(keys, minlength=n)
+    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    out = np.zeros(n)
+    has = counts > 0
+    out[has] = v[starts[has] + np.floor(q * (counts[has] - 1)).astype(np.int64)]
     return out
 
 
@@ -284,6 +429,10 @@ def free_surface(
     size = max(3, int(size_px) | 1)
     largest = 2 * max(img.shape) + 1
     grad = _gradient(smooth)  # the candidates' edge widths, at any disc size
+    # light falling off found at any disc size (filled in by _sharp): a property of the
+    # image's light, not of the disc, so a region the step test reads on either side of
+    # its bound at two sizes cannot make the disc grow
+    light = np.zeros(img.shape, bool)
 
     def candidates(size: int) -> tuple[np.ndarray, np.ndarray, float]:
         closed = _closing(smooth, size)
@@ -293,7 +442,7 @@ def free_surface(
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(closed > 0, 1.0 - smooth / np.maximum(closed, 1e-6), 0.0)
         cand = _fill_holes(((d > candidate_darkness) & lit_mask).astype(np.uint8)).astype(bool)
-        cand = _sharp(cand, smooth, closed, lit_mask, grad)
+        cand = _sharp(cand, smooth, closed, lit_mask, grad, light)
         widest = 0.0
         if cand.any():
             dist = cv2.distanceTransform(cand.astype(np.uint8), cv2.DIST_L2, 5)
