@@ -134,11 +134,12 @@ EDGE_RATIO = 1.35
 #: The sharpest step the 1.5 px smoothing leaves (sqrt(2 pi) * 1.5 px): a narrower reading
 #: is noise, not a sharper optics.
 STEP_FLOOR_PX = math.sqrt(2.0 * math.pi) * SMOOTH_SIGMA_PX
-#: Texture (the spread of the darkness about its 3 px Gaussian average) of a candidate's
-#: inside over that of the free surface, below which the inside is smooth: light carries
-#: the free surface's noise and texture, with some of its own ramp (a fold reads 2.3-4.3);
-#: contact carries its real-contact patches and junctions (12-2400 where an edge is as
-#: soft).
+#: Texture (the spread of the darkness about its 3 px Gaussian average, 7 px inside its
+#: edge) of a candidate's inside over that of the free surface, at most which the inside
+#: is smooth: light carries the free surface's noise (0.7-1 times it, by the share of
+#: light left and the noise's kind), texture and flaws (the table's fold reads 1.4-4.6);
+#: contact carries its real-contact patches and junctions (the table's patchy contacts
+#: 6-57, a weak guard for them: their step is what tells them).
 SMOOTH_TEXTURE = 8.0
 #: Half-depth pixels a region needs for its step width to be measured (a contact of
 #: radius 5 px has about 60).
@@ -221,8 +222,8 @@ def _light(lab: np.ndarray, n: int, foot: np.ndarray, steps: np.ndarray, cores: 
 
 class _Texture:
     """The darkness's spread about its 3 px Gaussian average (1.4826 MAD) inside regions
-    (eroded by 3 px, :data:`_TEXTURE_MIN_PX` pixels at least) over that of the lit free
-    surface 7 px or more from the candidates."""
+    (eroded by 7 px, which leaves a step's curvature out; :data:`_TEXTURE_MIN_PX` pixels
+    at least) over that of the lit free surface 7 px or more from the candidates."""
 
     def __init__(self, d: np.ndarray, cand: np.ndarray, lit: np.ndarray) -> None:
         d32 = d.astype(np.float32)
@@ -235,7 +236,7 @@ class _Texture:
     def ratio(self, lab: np.ndarray, n: int) -> np.ndarray:
         """Texture of each region over the free surface's (NaN: too small, or no free
         surface to compare with)."""
-        inner = cv2.erode((lab > 0).astype(np.uint8), np.ones((7, 7), np.uint8)).astype(bool)
+        inner = cv2.erode((lab > 0).astype(np.uint8), np.ones((15, 15), np.uint8)).astype(bool)
         keys = lab[inner]
         counts = np.bincount(keys, minlength=n)
         out = np.full(n, math.nan)
