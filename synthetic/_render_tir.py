@@ -822,6 +822,45 @@ def block_row(
 
 #: Length range of the ice's scratches, mm (uniform): a track used a few times.
 SCRATCH_LENGTH_MM = (3.0, 20.0)
+#: The thesis's TIR field of view, mm (640 x 256 px at 0.1 mm/px), and the flaws of its
+#: ice seen in it: "the few bubbles" of Fig. 4.20 b (12) and the scratches of a track used
+#: a few times (5).
+THESIS_FIELD_MM = (64.0, 25.6)
+THESIS_BUBBLES = 12
+THESIS_SCRATCHES = 5
+
+
+def ice_flaws_expected(
+    width_mm: float,
+    height_mm: float,
+    *,
+    bubbles_per_field: float = THESIS_BUBBLES,
+    scratches_per_field: float = THESIS_SCRATCHES,
+) -> tuple[float, float]:
+    """Mean numbers of the ice's bubbles and scratches a view of ``width_mm`` x
+    ``height_mm`` holds, for an ice with the given numbers in :data:`THESIS_FIELD_MM`.
+
+    Bubbles (0.05-0.3 mm, frozen into the ice) are counted by area; scratches
+    (:data:`SCRATCH_LENGTH_MM` long, far longer than a micro view) by the ones that cross
+    the view: their starts over the view and a margin of its perimeter times the mean
+    length over pi (Buffon's needle).
+
+    Examples
+    --------
+    >>> [round(n, 3) for n in ice_flaws_expected(64.0, 25.6)]
+    [12.0, 5.0]
+    >>> [round(n, 3) for n in ice_flaws_expected(2.0, 2.0)]  # a micro view: clean ice
+    [0.029, 0.073]
+    """
+    mean_length = sum(SCRATCH_LENGTH_MM) / 2
+
+    def crossing(w: float, h: float) -> float:  # scratches seen, per scratch start density
+        return w * h + 2.0 * (w + h) * mean_length / math.pi
+
+    field_w, field_h = THESIS_FIELD_MM
+    bubbles = bubbles_per_field * width_mm * height_mm / (field_w * field_h)
+    scratches = scratches_per_field * crossing(width_mm, height_mm) / crossing(field_w, field_h)
+    return bubbles, scratches
 
 
 def ice_transmission(

@@ -68,7 +68,7 @@ from typing import Any
 import numpy as np
 
 from synthetic._lighting import LIT_SHAPES
-from synthetic._render_tir import SCRATCH_LENGTH_MM
+from synthetic._render_tir import THESIS_FIELD_MM, ice_flaws_expected
 from synthetic.footage import CameraSettings, FootageSpec
 
 __all__ = [
@@ -410,27 +410,22 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
 
 
 #: The field of view (width, height, mm) over which the ice flaws drawn for a clip (0-40
-#: bubbles, 0-10 scratches) lie: the renderer's default camera, the thesis's 640 x 256 px at
-#: 0.1 mm/px, where its default flaws (12 bubbles, the few of Fig. 4.20 b; 5 scratches)
-#: hold. The physical world's views are 0.6-38 mm wide: its ice has the flaws of that field
-#: per unit area.
-_THESIS_CAMERA = CameraSettings()
-FLAW_FIELD_MM = (_THESIS_CAMERA.width_px * _THESIS_CAMERA.mm_per_px,
-                 _THESIS_CAMERA.height_px * _THESIS_CAMERA.mm_per_px)
-#: Mean length of a scratch, mm (the renderer's uniform range).
-_SCRATCH_MEAN_MM = sum(SCRATCH_LENGTH_MM) / 2
+#: bubbles, 0-10 scratches) lie: the thesis's 640 x 256 px at 0.1 mm/px, where the
+#: renderer's default flaws (12 bubbles, the few of Fig. 4.20 b; 5 scratches) hold. The
+#: physical world's views are 0.6-38 mm wide: its ice has the flaws of that field per unit
+#: area.
+FLAW_FIELD_MM = THESIS_FIELD_MM
 
 
 def _ice_flaws_in_view(cam: dict[str, Any], seed: int, *, glass: bool) -> dict[str, int]:
     """The bubbles and scratches a physical clip's view holds: the counts drawn for the
     domain's view (``cam``'s, per :data:`FLAW_FIELD_MM`) as densities of the ice, seen in
-    this view.
+    this view (:func:`synthetic._render_tir.ice_flaws_expected`: bubbles by area,
+    scratches by the ones that cross it).
 
-    Bubbles (0.05-0.3 mm, frozen into the ice) are counted by area, scratches (3-20 mm
-    long, far longer than a micro view) by the ones that cross it: their starts over the
-    view and a margin of its perimeter times the mean length over pi (Buffon). Each count
-    is a Poisson draw with that mean from a generator of its own, seeded by the clip's
-    seed (the draws of the clip's other fields stay as they were). Glass holds no bubbles.
+    Each count is a Poisson draw with that mean from a generator of its own, seeded by the
+    clip's seed (the draws of the clip's other fields stay as they were). Glass holds no
+    bubbles.
 
     The domain's counts were kept per view at the physical world's 0.004-0.12 mm/px: a
     1.3 mm view held up to 40 bubbles of 0.05-0.3 mm (more than it can show side by side,
@@ -438,14 +433,10 @@ def _ice_flaws_in_view(cam: dict[str, Any], seed: int, *, glass: bool) -> dict[s
     kind of the lit rim left at the domain's scale.
     """
     w_mm, h_mm = cam["width_px"] * cam["mm_per_px"], cam["height_px"] * cam["mm_per_px"]
-    field_w, field_h = FLAW_FIELD_MM
-
-    def crossing(w: float, h: float) -> float:  # scratches seen, per scratch start density
-        return w * h + 2.0 * (w + h) * _SCRATCH_MEAN_MM / math.pi
-
+    bubbles, scratches = ice_flaws_expected(
+        w_mm, h_mm, bubbles_per_field=cam["n_bubbles"], scratches_per_field=cam["n_scratches"])
     rng = np.random.default_rng([int(seed), 0x1CE])
-    bubbles = 0.0 if glass else cam["n_bubbles"] * w_mm * h_mm / (field_w * field_h)
-    scratches = cam["n_scratches"] * crossing(w_mm, h_mm) / crossing(field_w, field_h)
+    bubbles = 0.0 if glass else bubbles
     return {"n_bubbles": int(rng.poisson(bubbles)), "n_scratches": int(rng.poisson(scratches))}
 
 

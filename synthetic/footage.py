@@ -119,6 +119,8 @@ from synthetic._render_side import (
     rotate_scene,
 )
 from synthetic._render_tir import (
+    THESIS_BUBBLES,
+    THESIS_FIELD_MM,
     ContactParams,
     ElementFrame,
     PathGeometry,
@@ -126,6 +128,7 @@ from synthetic._render_tir import (
     block_row,
     element_contacts,
     element_row,
+    ice_flaws_expected,
     ice_transmission,
     render_tir_signal,
     tir_truth_rows,
@@ -309,11 +312,14 @@ class CameraSettings:
     vignetting : float
         Light fall-off in the image corners, fraction, in [0, 1); 0.2 is typical of a lens
         used near full aperture.
-    n_bubbles : int
-        Air bubbles in the ice within the view, in [0, 10000]; 12 as in the few bubbles of
-        Fig. 4.20 b. In the side view: bubbles in the ice slab per image width.
-    n_scratches : int
-        Scratches on the ice surface, in [0, 10000]; 5 for a track used a few times.
+    n_bubbles : int, optional
+        Air bubbles in the ice within the view, in [0, 10000]. None (default): the thesis's
+        ice, the few bubbles of Fig. 4.20 b (12 in its 64 x 25.6 mm view), counted in this
+        view by area (:meth:`ice_flaws`; a 2.56 mm micro view holds none). In the side
+        view: bubbles in the ice slab per image width (None: 12 per 64 mm).
+    n_scratches : int, optional
+        Scratches on the ice surface, in [0, 10000]. None (default): those of a track used a
+        few times (5 in the thesis's view), counted in this view by the ones that cross it.
     groove_depth : float
         Darkening at the centre of a worn groove along the track, fraction, in [0, 1); 0.05:
         a shallow rut hardly visible by eye. 0 removes it.
@@ -376,8 +382,8 @@ class CameraSettings:
     rotation_deg: float = 0.0
     illumination_gradient: float = 0.15
     vignetting: float = 0.2
-    n_bubbles: int = 12
-    n_scratches: int = 5
+    n_bubbles: int | None = None
+    n_scratches: int | None = None
     groove_depth: float = 0.05
     n_dust: int = 20
     lit_shape: str = "full"
@@ -425,7 +431,8 @@ class CameraSettings:
         for name in ("illumination_gradient", "vignetting"):
             put(name, check_number(name, getattr(self, name), low=0.0, high=1.0, high_open=True))
         for name in ("n_bubbles", "n_scratches", "n_dust"):
-            put(name, _integer(name, getattr(self, name), 0, 10000))
+            if getattr(self, name) is not None or name == "n_dust":
+                put(name, _integer(name, getattr(self, name), 0, 10000))
         put("groove_depth",
             check_number("groove_depth", self.groove_depth, low=0.0, high=1.0, high_open=True))
         self._check_real_footage(put)
@@ -480,6 +487,36 @@ class CameraSettings:
     def field_of_view_mm(self) -> tuple[float, float]:
         """Image width and height in the object plane, mm."""
         return self.width_px * self.mm_per_px, self.height_px * self.mm_per_px
+
+    def ice_flaws(self, view: str = "tir") -> tuple[int, int]:
+        """Bubbles and scratches the renderer draws in this view: the given counts, or
+        where a count is None the thesis's ice seen here.
+
+        TIR view: the thesis's 12 bubbles and 5 scratches in its 64 x 25.6 mm view as
+        densities (:func:`synthetic._render_tir.ice_flaws_expected`: bubbles by area,
+        scratches by the ones that cross the view), rounded to whole flaws. Side view: the
+        bubbles in the ice slab per image width, 12 per 64 mm of width.
+
+        The counts used to be 12 and 5 in every view: a 2.56 mm micro view at 0.01 mm/px
+        held 12 bubbles of 0.05-0.3 mm, 250 times the thesis's ice.
+
+        Examples
+        --------
+        >>> CameraSettings().ice_flaws()
+        (12, 5)
+        >>> CameraSettings(mm_per_px=0.01, width_px=256, height_px=256).ice_flaws()
+        (0, 0)
+        >>> CameraSettings(mm_per_px=0.01, n_bubbles=3).ice_flaws()  # given: as given
+        (3, 0)
+        """
+        w_mm, h_mm = self.field_of_view_mm
+        bubbles, scratches = ice_flaws_expected(w_mm, h_mm)
+        if view == "side":
+            bubbles = THESIS_BUBBLES * w_mm / THESIS_FIELD_MM[0]
+        return (
+            round(bubbles) if self.n_bubbles is None else self.n_bubbles,
+            round(scratches) if self.n_scratches is None else self.n_scratches,
+        )
 
 
 @dataclass(frozen=True)
@@ -1003,6 +1040,8 @@ class FootageSpec:
         gives the same dict, and ``meta.json``, as before they existed).
         """
         out = json_safe(dataclasses.asdict(self))
+        # the flaws drawn, whether given or the thesis's ice in this view
+        out["camera"]["n_bubbles"], out["camera"]["n_scratches"] = self.camera.ice_flaws(self.view)
         for name in _STEP_FIELDS:
             if out[name] == _STEP_DEFAULTS[name]:
                 del out[name]
@@ -1390,11 +1429,12 @@ class _IceCanvas:
         w, h = cam.width_px + 2 * self.mx, cam.height_px + 2 * self.my
         canvas = dataclasses.replace(path, width_mm=w * px, height_mm=h * px)
         scale = (w * h) / (cam.width_px * cam.height_px)
+        n_bubbles, n_scratches = cam.ice_flaws()
         self.ice = ice_transmission(
             canvas,
             rng=rng,
-            n_bubbles=round(cam.n_bubbles * scale),
-            n_scratches=round(cam.n_scratches * scale),
+            n_bubbles=round(n_bubbles * scale),
+            n_scratches=round(n_scratches * scale),
             groove_depth=cam.groove_depth,
         )
         self.clip = clip
@@ -1513,11 +1553,12 @@ class _Clip:
             self.camera_base = (level * illum * dust * self.lit.factor).astype(np.float32)
             self.base = self.camera_base * self.ice_canvas.frame(0)
         else:
+            n_bubbles, n_scratches = cam.ice_flaws()
             ice = ice_transmission(
                 self.path,
                 rng=scene_rng,
-                n_bubbles=cam.n_bubbles,
-                n_scratches=cam.n_scratches,
+                n_bubbles=n_bubbles,
+                n_scratches=n_scratches,
                 groove_depth=cam.groove_depth,
             )
             if spec.texture > 0.0:
@@ -1576,7 +1617,7 @@ class _Clip:
         # radius 0.05-0.3 mm as in the TIR view, 0.3-5 mm below the surface, brighter
         # than the ice by 15-40 % (they scatter the backlight towards the camera).
         span = w_mm + 2.0 * travel
-        n_b = round(cam.n_bubbles * span / w_mm)
+        n_b = round(cam.ice_flaws("side")[0] * span / w_mm)
         bubbles = np.column_stack(
             [
                 scene_rng.uniform(-travel, w_mm + travel, n_b),

@@ -487,3 +487,32 @@ def test_bad_render_options_raise(tmp_path):
         render_footage(spec, tmp_path, fmt="avi")
     with pytest.raises(TypeError, match="spec"):
         next(iter_frames({"preset": "G3"}))
+
+
+def test_default_ice_flaws_are_the_thesis_density_in_each_view(tmp_path):
+    """Left at None, the ice's bubbles and scratches are the thesis's (12 and 5 in its
+    64 x 25.6 mm view, Fig. 4.20 b) as densities: bubbles by area, scratches (3-20 mm, mean
+    11.5) by the ones crossing the view (Buffon: area plus perimeter times mean length over
+    pi), rounded; side view: 12 bubbles per 64 mm of width. Independent truth: the counts
+    worked out here by hand; given counts are used as given, and meta.json records the
+    counts drawn."""
+    def crossing(w: float, h: float) -> float:
+        return w * h + 2 * (w + h) * 11.5 / math.pi
+
+    assert CameraSettings().ice_flaws() == (12, 5)
+    # 20 x 12.8 mm: 12 * 256 / 1638.4 = 1.88 bubbles, 5 * 496.1 / 2294.4 = 1.08 scratches
+    mid = CameraSettings(mm_per_px=0.05, width_px=400, height_px=256)
+    assert round(12 * 20 * 12.8 / (64 * 25.6)) == 2
+    assert round(5 * crossing(20, 12.8) / crossing(64, 25.6)) == 1
+    assert mid.ice_flaws() == (2, 1)
+    # a 2.56 mm micro view at 0.01 mm/px holds none (0.05 bubbles, 0.1 scratches)
+    micro = CameraSettings(mm_per_px=0.01, width_px=256, height_px=256)
+    assert micro.ice_flaws() == (0, 0)
+    assert CameraSettings(width_px=320).ice_flaws("side")[0] == 6  # 32 mm of slab
+    assert CameraSettings(mm_per_px=0.01, n_bubbles=7, n_scratches=2).ice_flaws() == (7, 2)
+    for cam, counts in ((micro, (0, 0)), (mid, (2, 1))):
+        spec = FootageSpec(**{**SMALL, "n_frames": 1}, camera=cam)
+        meta = json.loads((render_footage(spec, tmp_path / f"c{cam.mm_per_px}")
+                           / "meta.json").read_text())
+        assert (meta["spec"]["camera"]["n_bubbles"], meta["spec"]["camera"]["n_scratches"]) \
+            == counts
