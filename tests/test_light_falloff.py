@@ -105,3 +105,21 @@ def test_a_single_soft_contact_is_its_own_measure_of_sharpness():
     dark, inside = _discs(blur_px=2.5, centres=DISCS[2:])
     fs = free_surface(_image(dark, np.ones((H, W)), 0), size_px=31)
     assert fs.candidates[inside].mean() > 0.97
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_contact_across_the_folds_edge_is_found_whole(seed):
+    """A disc contact whose right half lies in the fold (its centre on the fold's edge):
+    the fold's inside (darkness 0.5, above the core level 0.485) and the contact are one
+    core whose edge is the fold's; judged against the fold's own light, the contact is
+    darker than half of full contact there and is found, inside the fold too."""
+    centre = (120, FOLD_X - FOLD_CORE // 2 - FOLD_EDGE // 2)
+    dark, _ = _discs(darkness=0.9, centres=(*DISCS[:2], centre))
+    fs = free_surface(_image(dark, _fold(), seed), size_px=31)
+    yy, xx = np.mgrid[:H, :W]
+    straddling = (yy - centre[0]) ** 2 + (xx - centre[1]) ** 2 <= (DISC_R - 2) ** 2
+    assert fs.candidates[straddling].mean() > 0.97
+    # the fold away from the contact (beyond the 6 px margin kept around it) stays light
+    core = np.abs(np.arange(W) + 0.5 - FOLD_X) <= FOLD_CORE / 2
+    away = np.abs(np.arange(H) - centre[0]) > DISC_R + 8
+    assert fs.candidates[np.ix_(away, core)].mean() < 0.02

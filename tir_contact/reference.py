@@ -183,20 +183,41 @@ def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
     out = keep[lab]
     soft = cand & ~out
     core = soft & (d > CORE_DARKNESS)
-    if core.any():
+    if not core.any():
+        return out
+
+    def sharp_cores(core: np.ndarray, dk: np.ndarray, dp: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, int]:
+        # the cores of `core` sharp by their foot (darkness `dk`, depth `dp` in grey
+        # values) and not light by their step
         m, clab = cv2.connectedComponents(core.astype(np.uint8), connectivity=8,
                                           ltype=cv2.CV_32S)
-        c_foot = _edge_widths(clab, m, grad, depth, lit)
+        c_foot = _edge_widths(clab, m, grad, dp, lit)
         ck = c_foot <= MAX_EDGE_PX
         if measured.any():
-            c_steps, c_cores = _half_depth_widths(clab, m, d, rel, lit)
+            c_steps, c_cores = _half_depth_widths(clab, m, dk, rel, lit)
             ck &= ~_light(clab, m, c_foot, c_steps, c_cores, sharpest, darkest, texture)
         ck[0] = False
-        sharp_core = ck[clab]
-        if sharp_core.any():
-            near = cv2.dilate(sharp_core.astype(np.uint8), cv2.getStructuringElement(
-                cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
-            out |= near & soft
+        return ck[clab], clab, m
+
+    sharp_core, clab, m = sharp_cores(core, d, depth)
+    # a contact in a fold deeper than the core level joins the fold's inside in one core,
+    # whose edge is the fold's: a soft core is judged again against its own light (its
+    # median level f, the fold's where the fold is most of it), its contact darker than
+    # half of full contact there, (d - f) / (1 - f), its edge read on that darkness
+    dropped = core & ~sharp_core
+    if dropped.any():
+        f = _group_quantiles(clab[dropped], d[dropped], m, 0.5)[clab]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d_in = np.where(dropped, (d - f) / np.maximum(1.0 - f, 1e-6), 0.0)
+        inner = dropped & (d_in > CORE_DARKNESS)
+        if inner.any():
+            sharp_core |= sharp_cores(inner, d_in, np.where(dropped, depth - f * closed,
+                                                             depth))[0]
+    if sharp_core.any():
+        near = cv2.dilate(sharp_core.astype(np.uint8), cv2.getStructuringElement(
+            cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
+        out |= near & soft
     return out
 
 
