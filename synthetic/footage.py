@@ -509,6 +509,7 @@ class CameraSettings:
         >>> CameraSettings(mm_per_px=0.01, n_bubbles=3).ice_flaws()  # given: as given
         (3, 0)
         """
+        _choice("view", view, ("tir", "side"))
         w_mm, h_mm = self.field_of_view_mm
         bubbles, scratches = ice_flaws_expected(w_mm, h_mm)
         if view == "side":
@@ -1040,7 +1041,9 @@ class FootageSpec:
         gives the same dict, and ``meta.json``, as before they existed).
         """
         out = json_safe(dataclasses.asdict(self))
-        # the flaws drawn, whether given or the thesis's ice in this view
+        # the flaws drawn, whether given or the thesis's ice in this view (so a camera
+        # rebuilt from meta.json holds them as given counts; the side view draws no
+        # scratches, whatever the count)
         out["camera"]["n_bubbles"], out["camera"]["n_scratches"] = self.camera.ice_flaws(self.view)
         for name in _STEP_FIELDS:
             if out[name] == _STEP_DEFAULTS[name]:

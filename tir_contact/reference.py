@@ -135,14 +135,14 @@ EDGE_RATIO = 1.35
 #: is noise, not a sharper optics.
 STEP_FLOOR_PX = math.sqrt(2.0 * math.pi) * SMOOTH_SIGMA_PX
 #: Texture (the spread of the darkness about its 3 px Gaussian average, 7 px inside its
-#: edge) of a candidate's inside over that of the free surface, at most which the inside
-#: is smooth: light carries the free surface's noise (0.7-1 times it, by the share of
-#: light left and the noise's kind), texture and flaws (the table's fold reads 1.4-4.6);
-#: contact carries its real-contact patches and junctions (the table's patchy contacts
-#: 6-57, a weak guard for them: their step is what tells them).
-SMOOTH_TEXTURE = 8.0
+#: edge, :class:`_Texture`) of a candidate's inside over that of the free surface, at
+#: most which the inside is smooth: light carries the free surface's noise (0.7-1 times
+#: it, by the share of light left and the noise's kind), texture and flaws (the table's
+#: fold reads 0.8-3.9); contact carries its real-contact patches and junctions (the
+#: table's patchy contacts 4-50: a weak guard for them, their step is what tells them).
+SMOOTH_TEXTURE = 6.0
 #: Half-depth pixels a region needs for its step width to be measured (a contact of
-#: radius 5 px has about 60).
+#: radius 6 px blurred by the smoothing alone has about 50).
 MIN_EDGE_SAMPLES = 50
 
 
@@ -155,8 +155,10 @@ def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
     lies in the fold) that are not light by their step either, with the soft region's
     pixels within :data:`MARGIN_PX` of them. `grad` is :func:`_gradient` of `smooth`.
 
-    `light` (updated in place): the regions found to be light so far (at other disc
-    sizes); a region at least half in it is light too."""
+    `light` (updated in place): the regions found to be light so far (at the disc sizes
+    tried before; light first found at a wider disc that is then not taken does not
+    reach back to the kept one), less the contacts found inside them; a region at least
+    half in it is light too."""
     if not cand.any():
         return cand
     depth = closed - smooth
@@ -170,37 +172,50 @@ def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
     texture = _Texture(d, cand, lit)
     steps, cores = _half_depth_widths(lab, n, d, rel, lit)
     measured = keep & np.isfinite(steps)
+    found = np.zeros(n, bool)
+    image_steps = None  # the image's sharpest step, darkest sharp core, texture
     if measured.any():
         sharpest = max(float(steps[measured].min()), STEP_FLOOR_PX)
         darkest = float(cores[measured & (steps <= EDGE_RATIO * sharpest)].max())
-        found = _light(lab, n, foot, steps, cores, sharpest, darkest, texture)
-        if light is not None:
-            sizes = np.bincount(lab.ravel(), minlength=n)
-            found |= 2 * np.bincount(lab[light], minlength=n) >= np.maximum(sizes, 1)
-            found[0] = False
-            light |= found[lab]
-        keep &= ~found
+        image_steps = (sharpest, darkest, texture)
+        found = _light(lab, n, foot, steps, cores, *image_steps)
+    if light is not None and light.any():
+        sizes = np.bincount(lab.ravel(), minlength=n)
+        found |= 2 * np.bincount(lab[light], minlength=n) >= np.maximum(sizes, 1)
+        found[0] = False
+    keep &= ~found
     out = keep[lab]
-    soft = cand & ~out
+    out = _soft_cores(out, cand & ~out, d, depth, closed, rel, grad, lit, image_steps)
+    if light is not None:
+        light |= found[lab] & ~out  # a contact found inside light stays contact
+    return out
+
+
+def _soft_cores(out: np.ndarray, soft: np.ndarray, d: np.ndarray, depth: np.ndarray,
+                closed: np.ndarray, rel: np.ndarray, grad: np.ndarray, lit: np.ndarray,
+                steps: tuple[float, float, _Texture] | None) -> np.ndarray:
+    """`out` with the sharp cores of the `soft` regions (:func:`_sharp`) and their pixels
+    within :data:`MARGIN_PX`; `steps`: the image's sharpest step, darkest sharp core and
+    texture for :func:`_light`, None where no step was measured."""
     core = soft & (d > CORE_DARKNESS)
     if not core.any():
         return out
 
-    def sharp_cores(core: np.ndarray, dk: np.ndarray, dp: np.ndarray
+    def sharp_cores(core: np.ndarray, dk: np.ndarray, dp: np.ndarray, rl: np.ndarray
                     ) -> tuple[np.ndarray, np.ndarray, int]:
-        # the cores of `core` sharp by their foot (darkness `dk`, depth `dp` in grey
-        # values) and not light by their step
+        # the cores of `core` sharp by their foot (darkness `dk`, its depth `dp` in grey
+        # values, its relative gradient `rl`) and not light by their step
         m, clab = cv2.connectedComponents(core.astype(np.uint8), connectivity=8,
                                           ltype=cv2.CV_32S)
         c_foot = _edge_widths(clab, m, grad, dp, lit)
         ck = c_foot <= MAX_EDGE_PX
-        if measured.any():
-            c_steps, c_cores = _half_depth_widths(clab, m, dk, rel, lit)
-            ck &= ~_light(clab, m, c_foot, c_steps, c_cores, sharpest, darkest, texture)
+        if steps is not None:
+            c_steps, c_cores = _half_depth_widths(clab, m, dk, rl, lit)
+            ck &= ~_light(clab, m, c_foot, c_steps, c_cores, *steps)
         ck[0] = False
         return ck[clab], clab, m
 
-    sharp_core, clab, m = sharp_cores(core, d, depth)
+    sharp_core, clab, m = sharp_cores(core, d, depth, rel)
     # a contact in a fold deeper than the core level joins the fold's inside in one core,
     # whose edge is the fold's: a soft core is judged again against its own light (its
     # median level f, the fold's where the fold is most of it), its contact darker than
@@ -212,8 +227,9 @@ def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
             d_in = np.where(dropped, (d - f) / np.maximum(1.0 - f, 1e-6), 0.0)
         inner = dropped & (d_in > CORE_DARKNESS)
         if inner.any():
+            scale = np.where(dropped, 1.0 / np.maximum(1.0 - f, 1e-6), 1.0)
             sharp_core |= sharp_cores(inner, d_in, np.where(dropped, depth - f * closed,
-                                                             depth))[0]
+                                                             depth), rel * scale)[0]
     if sharp_core.any():
         near = cv2.dilate(sharp_core.astype(np.uint8), cv2.getStructuringElement(
             cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
@@ -242,17 +258,17 @@ def _light(lab: np.ndarray, n: int, foot: np.ndarray, steps: np.ndarray, cores: 
 
 
 class _Texture:
-    """The darkness's spread about its 3 px Gaussian average (1.4826 MAD) inside regions
-    (eroded by 7 px, which leaves a step's curvature out; :data:`_TEXTURE_MIN_PX` pixels
-    at least) over that of the lit free surface 7 px or more from the candidates."""
+    """The darkness's spread about its 3 px Gaussian average (1.4826 times the median of
+    its absolute value: the noise's sigma for Gaussian noise) inside regions (eroded by
+    7 px, which leaves a step's curvature out; :data:`_TEXTURE_MIN_PX` pixels at least)
+    over that of the lit free surface 7 px or more from the candidates."""
 
     def __init__(self, d: np.ndarray, cand: np.ndarray, lit: np.ndarray) -> None:
         d32 = d.astype(np.float32)
         self.res = np.abs(d32 - cv2.GaussianBlur(d32, (0, 0), 3.0))
         far = cv2.dilate(cand.astype(np.uint8), np.ones((15, 15), np.uint8)).astype(bool)
         free = self.res[lit & ~far]
-        self.free = (1.4826 * float(np.median(np.abs(free - np.median(free))))
-                     if free.size >= 100 else math.nan)
+        self.free = 1.4826 * float(np.median(free)) if free.size >= 100 else math.nan
 
     def ratio(self, lab: np.ndarray, n: int) -> np.ndarray:
         """Texture of each region over the free surface's (NaN: too small, or no free
@@ -288,7 +304,8 @@ def _half_depth_widths(lab: np.ndarray, n: int, d: np.ndarray, rel: np.ndarray,
     inside = lab > 0
     core = _group_quantiles(lab[inside], d[inside], n, 0.9)
     # the region and its 2 px margin (labels are exact in float32 below 2**24)
-    owner = cv2.dilate(lab.astype(np.float32), np.ones((5, 5), np.uint8)).astype(np.int32)
+    grown = cv2.dilate(lab.astype(np.float32), np.ones((5, 5), np.uint8)).astype(np.int32)
+    owner = np.where(lab > 0, lab, grown)  # a region's own pixels stay its own
     level = core[owner]
     band = (owner > 0) & lit & (d >= _HALF_BAND[0] * level) & (d <= _HALF_BAND[1] * level)
     g, has = _group_medians(owner[band], rel[band], n)
