@@ -78,7 +78,8 @@ def test_physical_area_error_median_within_2_percent(physical_summary):
 
 @needs_tamaas
 @pytest.mark.xfail(strict=True, reason="issue 21: the worst physical clips are far off "
-                   "(rough pad draw 6: 57 % low, its junctions beyond the zone)")
+                   "(rough pad draw 6: 57 % low, its fading junction field taken for light "
+                   "falling off)")
 def test_physical_area_error_p95_within_8_percent(physical_summary):
     assert _all(physical_summary, "area_err_pct p95") <= MEASUREMENT_TARGETS["area_err_pct p95"]
 
@@ -228,7 +229,7 @@ def test_static_rough_pad_with_its_empty_frame_reads_its_optical_contact(index, 
     exposure, shifted by 3, -2 px) as ``--reference``: the free surface under the pad is
     measured instead of estimated from the image. Two static pads read far off without it
     (the short clips' 4 frames, measured against their optical contact): draw 6 59 % low,
-    its junctions beyond the zone around resolved contact; draw 11 on bubbly ice 188 %
+    its fading junction field taken for light falling off; draw 11 on bubbly ice 188 %
     high, its bubbles read as contact. With it: 9.4 % and 0.1 %. Tolerance 12.5 %: a
     quarter above the p95 of the nine static draws of seed 0 with their empty frames
     against their optical contact (10.0 %; median 1.2 %)."""
