@@ -185,10 +185,40 @@ def _sharp(cand: np.ndarray, smooth: np.ndarray, closed: np.ndarray,
         found[0] = False
     keep &= ~found
     out = keep[lab]
+    if image_steps is not None:
+        out = _split_light(out, lab, n, keep & (steps > MAX_EDGE_PX), d, depth, rel, grad,
+                           lit, image_steps)
     out = _soft_cores(out, cand & ~out, d, depth, closed, rel, grad, lit, image_steps)
     if light is not None:
         light |= found[lab] & ~out  # a contact found inside light stays contact
     return out
+
+
+def _split_light(out: np.ndarray, lab: np.ndarray, n: int, mixed: np.ndarray, d: np.ndarray,
+                 depth: np.ndarray, rel: np.ndarray, grad: np.ndarray, lit: np.ndarray,
+                 image_steps: tuple[float, float, _Texture]) -> np.ndarray:
+    """`out` without the light inside its `mixed` regions (kept by their foot, but no clean
+    step at half depth: a fold joined with a contact, whose flat inside fills the band):
+    each such region's contact (darker than half of full contact against its median
+    level f, ``(d - f) / (1 - f)``) and :data:`MARGIN_PX` around it stay; the pieces of
+    the rest that are light by their own step (:func:`_light`) go."""
+    if not mixed[1:].any():
+        return out
+    region = mixed[lab]
+    f = _group_quantiles(lab[region], d[region], n, 0.5)[lab]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        contact = region & ((d - f) / np.maximum(1.0 - f, 1e-6) > CORE_DARKNESS)
+    kept = cv2.dilate(contact.astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
+    rest = region & ~kept
+    if not rest.any():
+        return out
+    m, rlab = cv2.connectedComponents(rest.astype(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    r_foot = _edge_widths(rlab, m, grad, depth, lit)
+    r_steps, r_cores = _half_depth_widths(rlab, m, d, rel, lit)
+    gone = _light(rlab, m, r_foot, r_steps, r_cores, *image_steps) | (r_foot > MAX_EDGE_PX)
+    gone[0] = False
+    return out & ~gone[rlab]
 
 
 def _soft_cores(out: np.ndarray, soft: np.ndarray, d: np.ndarray, depth: np.ndarray,
