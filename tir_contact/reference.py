@@ -20,7 +20,9 @@ Method of :func:`free_surface` (no contact size known in advance):
    softer than the optics make a contact's (:data:`MAX_EDGE_PX`), or a clean step softer
    than the other contacts of the same image, smooth inside and lighter than them
    (:data:`EDGE_RATIO`: a fold of the light), is light, not contact; a region found to
-   be light at one disc size stays light at the others.
+   be light at one disc size stays light at the others. A contact inside a fold, or
+   joined with one into a region, is told from it by its darkness against the fold's
+   own light (:func:`_soft_cores`, :func:`_split_light`).
 4. The disc must be wider than every candidate: when the widest candidate (twice its
    largest inscribed radius) needs more, the disc grows to 1.5 times that plus 10 px and
    steps 2-4 repeat. A contact wider than the disc that reaches the image border (a block
