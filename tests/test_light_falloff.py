@@ -123,3 +123,21 @@ def test_a_contact_across_the_folds_edge_is_found_whole(seed):
     core = np.abs(np.arange(W) + 0.5 - FOLD_X) <= FOLD_CORE / 2
     away = np.abs(np.arange(H) - centre[0]) > DISC_R + 8
     assert fs.candidates[np.ix_(away, core)].mean() < 0.02
+
+
+@pytest.mark.parametrize("edge_px", [6, 10])
+def test_a_contact_inside_the_fold_is_split_from_it(edge_px):
+    """A disc contact centred in the fold. With a 6 px fall-off the fold and the contact
+    are one region sharp by its foot (before: the whole fold read as contact); with
+    10 px one soft region (before: the contact lost with the fold). Either way the
+    contact, judged against the fold's light, is found and the fold away from it is not
+    (tir_contact.reference._split_light, _soft_cores)."""
+    centre = (120, FOLD_X)
+    dark, _ = _discs(darkness=0.9, centres=(*DISCS[:2], centre))
+    fs = free_surface(_image(dark, _fold(edge_px), 0), size_px=31)
+    yy, xx = np.mgrid[:H, :W]
+    disc = (yy - centre[0]) ** 2 + (xx - centre[1]) ** 2 <= (DISC_R - 2) ** 2
+    assert fs.candidates[disc].mean() > 0.97
+    core = np.abs(np.arange(W) + 0.5 - FOLD_X) <= FOLD_CORE / 2
+    away = np.abs(np.arange(H) - centre[0]) > DISC_R + 8
+    assert fs.candidates[np.ix_(away, core)].mean() < 0.02
