@@ -68,7 +68,7 @@ from typing import Any
 import numpy as np
 
 from synthetic._lighting import LIT_SHAPES
-from synthetic._render_tir import THESIS_FIELD_MM, ice_flaws_expected
+from synthetic._render_tir import ice_flaws_expected
 from synthetic.footage import CameraSettings, FootageSpec
 
 __all__ = [
@@ -409,17 +409,11 @@ def sample_physical_spec(rng: int | np.random.Generator | None = None) -> tuple[
     return spec, case
 
 
-#: The field of view (width, height, mm) over which the ice flaws drawn for a clip (0-40
-#: bubbles, 0-10 scratches) lie: the thesis's 640 x 256 px at 0.1 mm/px, where the
-#: renderer's default flaws (12 bubbles, the few of Fig. 4.20 b; 5 scratches) hold. The
-#: physical world's views are 0.6-38 mm wide: its ice has the flaws of that field per unit
-#: area.
-FLAW_FIELD_MM = THESIS_FIELD_MM
-
-
 def _ice_flaws_in_view(cam: dict[str, Any], seed: int, *, glass: bool) -> dict[str, int]:
     """The bubbles and scratches a physical clip's view holds: the counts drawn for the
-    domain's view (``cam``'s, per :data:`FLAW_FIELD_MM`) as densities of the ice, seen in
+    domain's view (0-40 bubbles, 0-10 scratches: ``cam``'s, read as the counts of the
+    thesis's 64 x 25.6 mm field, :data:`synthetic._render_tir.THESIS_FIELD_MM`, where the
+    renderer's default flaws hold) as densities of the ice, seen in
     this view (:func:`synthetic._render_tir.ice_flaws_expected`: bubbles by area,
     scratches by the ones that cross it).
 

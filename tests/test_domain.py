@@ -188,9 +188,10 @@ def test_physical_ice_holds_the_flaws_of_the_thesis_ice_per_area():
     length over pi), none of them bubbles on glass; Poisson counts from the clip's seed.
     Independent truth: the means of those laws over 4000 seeds, within 5 standard errors
     of a Poisson mean (never reached by chance: a failure is a broken law)."""
-    from synthetic.domain import FLAW_FIELD_MM, _ice_flaws_in_view
+    from synthetic._render_tir import THESIS_FIELD_MM
+    from synthetic.domain import _ice_flaws_in_view
 
-    field_w, field_h = FLAW_FIELD_MM
+    field_w, field_h = THESIS_FIELD_MM
     # the thesis's field itself: the counts as drawn
     full = {"width_px": 640, "height_px": 256, "mm_per_px": field_w / 640,
             "n_bubbles": 40, "n_scratches": 10}

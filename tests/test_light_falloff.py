@@ -107,6 +107,17 @@ def test_a_single_soft_contact_is_its_own_measure_of_sharpness():
     assert fs.candidates[inside].mean() > 0.97
 
 
+def _assert_contact_found_and_fold_not(fs, centre: tuple[int, int]) -> None:
+    """The disc contact at `centre` (2 px inside its edge) is a candidate; the fold's core
+    away from it (beyond the 6 px margin kept around a contact) is not."""
+    yy, xx = np.mgrid[:H, :W]
+    disc = (yy - centre[0]) ** 2 + (xx - centre[1]) ** 2 <= (DISC_R - 2) ** 2
+    assert fs.candidates[disc].mean() > 0.97
+    core = np.abs(np.arange(W) + 0.5 - FOLD_X) <= FOLD_CORE / 2
+    away = np.abs(np.arange(H) - centre[0]) > DISC_R + 8
+    assert fs.candidates[np.ix_(away, core)].mean() < 0.02
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_a_contact_across_the_folds_edge_is_found_whole(seed):
     """A disc contact whose right half lies in the fold (its centre on the fold's edge):
@@ -115,14 +126,8 @@ def test_a_contact_across_the_folds_edge_is_found_whole(seed):
     darker than half of full contact there and is found, inside the fold too."""
     centre = (120, FOLD_X - FOLD_CORE // 2 - FOLD_EDGE // 2)
     dark, _ = _discs(darkness=0.9, centres=(*DISCS[:2], centre))
-    fs = free_surface(_image(dark, _fold(), seed), size_px=31)
-    yy, xx = np.mgrid[:H, :W]
-    straddling = (yy - centre[0]) ** 2 + (xx - centre[1]) ** 2 <= (DISC_R - 2) ** 2
-    assert fs.candidates[straddling].mean() > 0.97
-    # the fold away from the contact (beyond the 6 px margin kept around it) stays light
-    core = np.abs(np.arange(W) + 0.5 - FOLD_X) <= FOLD_CORE / 2
-    away = np.abs(np.arange(H) - centre[0]) > DISC_R + 8
-    assert fs.candidates[np.ix_(away, core)].mean() < 0.02
+    _assert_contact_found_and_fold_not(free_surface(_image(dark, _fold(), seed), size_px=31),
+                                       centre)
 
 
 @pytest.mark.parametrize("edge_px", [6, 10])
@@ -134,10 +139,5 @@ def test_a_contact_inside_the_fold_is_split_from_it(edge_px):
     (tir_contact.reference._split_light, _soft_cores)."""
     centre = (120, FOLD_X)
     dark, _ = _discs(darkness=0.9, centres=(*DISCS[:2], centre))
-    fs = free_surface(_image(dark, _fold(edge_px), 0), size_px=31)
-    yy, xx = np.mgrid[:H, :W]
-    disc = (yy - centre[0]) ** 2 + (xx - centre[1]) ** 2 <= (DISC_R - 2) ** 2
-    assert fs.candidates[disc].mean() > 0.97
-    core = np.abs(np.arange(W) + 0.5 - FOLD_X) <= FOLD_CORE / 2
-    away = np.abs(np.arange(H) - centre[0]) > DISC_R + 8
-    assert fs.candidates[np.ix_(away, core)].mean() < 0.02
+    _assert_contact_found_and_fold_not(
+        free_surface(_image(dark, _fold(edge_px), 0), size_px=31), centre)

@@ -47,6 +47,7 @@ signal (read noise plus shot noise, ``var = a + b I``), so the darkness noise
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 import math
 from collections.abc import Iterator
@@ -207,11 +208,8 @@ def _split_light(out: np.ndarray, lab: np.ndarray, n: int, mixed: np.ndarray, d:
     if not mixed[1:].any():
         return out
     region = mixed[lab]
-    f = _group_quantiles(lab[region], d[region], n, 0.5)[lab]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        contact = region & ((d - f) / np.maximum(1.0 - f, 1e-6) > CORE_DARKNESS)
-    kept = cv2.dilate(contact.astype(np.uint8), cv2.getStructuringElement(
-        cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
+    contact = region & (_against_own_light(lab, n, region, d)[0] > CORE_DARKNESS)
+    kept = _within(contact, MARGIN_PX)
     rest = region & ~kept
     if not rest.any():
         return out
@@ -254,19 +252,32 @@ def _soft_cores(out: np.ndarray, soft: np.ndarray, d: np.ndarray, depth: np.ndar
     # half of full contact there, (d - f) / (1 - f), its edge read on that darkness
     dropped = core & ~sharp_core
     if dropped.any():
-        f = _group_quantiles(clab[dropped], d[dropped], m, 0.5)[clab]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            d_in = np.where(dropped, (d - f) / np.maximum(1.0 - f, 1e-6), 0.0)
+        d_in, f = _against_own_light(clab, m, dropped, d)
         inner = dropped & (d_in > CORE_DARKNESS)
         if inner.any():
             scale = np.where(dropped, 1.0 / np.maximum(1.0 - f, 1e-6), 1.0)
             sharp_core |= sharp_cores(inner, d_in, np.where(dropped, depth - f * closed,
                                                              depth), rel * scale)[0]
     if sharp_core.any():
-        near = cv2.dilate(sharp_core.astype(np.uint8), cv2.getStructuringElement(
-            cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
-        out |= near & soft
+        out |= _within(sharp_core, MARGIN_PX) & soft
     return out
+
+
+def _within(mask: np.ndarray, px: int) -> np.ndarray:
+    """The pixels within `px` of `mask` (a dilation by an elliptic disc of 2 px + 1)."""
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * px + 1,) * 2)
+    return cv2.dilate(mask.astype(np.uint8), disc).astype(bool)
+
+
+def _against_own_light(lab: np.ndarray, n: int, region: np.ndarray, d: np.ndarray
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """The darkness `d` of the pixels of `region` against their labelled region's own
+    light, ``(d - f) / (1 - f)`` with ``f`` the region's median darkness (a fold's level
+    where the fold is most of it; 0 outside `region`), and ``f`` per pixel."""
+    f = _group_quantiles(lab[region], d[region], n, 0.5)[lab]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d_in = np.where(region, (d - f) / np.maximum(1.0 - f, 1e-6), 0.0)
+    return d_in, f
 
 
 def _light(lab: np.ndarray, n: int, foot: np.ndarray, steps: np.ndarray, cores: np.ndarray,
@@ -296,11 +307,21 @@ class _Texture:
     over that of the lit free surface 7 px or more from the candidates."""
 
     def __init__(self, d: np.ndarray, cand: np.ndarray, lit: np.ndarray) -> None:
-        d32 = d.astype(np.float32)
-        self.res = np.abs(d32 - cv2.GaussianBlur(d32, (0, 0), 3.0))
-        far = cv2.dilate(cand.astype(np.uint8), np.ones((15, 15), np.uint8)).astype(bool)
-        free = self.res[lit & ~far]
-        self.free = 1.4826 * float(np.median(free)) if free.size >= 100 else math.nan
+        # kept, not computed: most images have no region the step test calls soft
+        self._d, self._cand, self._lit = d, cand, lit
+
+    @functools.cached_property
+    def res(self) -> np.ndarray:
+        """The darkness's absolute residual about its 3 px Gaussian average."""
+        d32 = self._d.astype(np.float32)
+        return np.abs(d32 - cv2.GaussianBlur(d32, (0, 0), 3.0))
+
+    @functools.cached_property
+    def free(self) -> float:
+        """The free surface's spread (NaN: under 100 free pixels)."""
+        far = cv2.dilate(self._cand.astype(np.uint8), np.ones((15, 15), np.uint8)).astype(bool)
+        free = self.res[self._lit & ~far]
+        return 1.4826 * float(np.median(free)) if free.size >= 100 else math.nan
 
     def ratio(self, lab: np.ndarray, n: int) -> np.ndarray:
         """Texture of each region over the free surface's (NaN: too small, or no free
@@ -348,13 +369,20 @@ def _half_depth_widths(lab: np.ndarray, n: int, d: np.ndarray, rel: np.ndarray,
     return widths, core
 
 
-def _group_quantiles(keys: np.ndarray, values: np.ndarray, n: int, q: float) -> np.ndarray:
-    """The `q` quantile (the value at rank ``floor(q (count - 1))``) of `values` for each
-    key in ``0..n-1``, 0 for keys that do not occur; one sort for all keys."""
-    order = np.lexsort((values, keys))
-    v = values[order]
+def _grouped(keys: np.ndarray, values: np.ndarray, n: int
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """`values` sorted by key, then by value (one sort for all keys), with each key's
+    count and start in it, for keys ``0..n-1``."""
+    v = values[np.lexsort((values, keys))]
     counts = np.bincount(keys, minlength=n)
     starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    return v, counts, starts
+
+
+def _group_quantiles(keys: np.ndarray, values: np.ndarray, n: int, q: float) -> np.ndarray:
+    """The `q` quantile (the value at rank ``floor(q (count - 1))``) of `values` for each
+    key in ``0..n-1``, 0 for keys that do not occur."""
+    v, counts, starts = _grouped(keys, values, n)
     out = np.zeros(n)
     has = counts > 0
     out[has] = v[starts[has] + np.floor(q * (counts[has] - 1)).astype(np.int64)]
@@ -390,10 +418,7 @@ def _group_medians(keys: np.ndarray, values: np.ndarray, n: int
     """Median of `values` for each key in ``0..n-1`` (as :func:`numpy.median`: the mean of
     the two middle values of an even group, in the values' dtype) and which keys occur;
     one sort instead of a pass over the image per key."""
-    order = np.lexsort((values, keys))
-    k, v = keys[order], values[order]
-    counts = np.bincount(k, minlength=n)
-    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    v, counts, starts = _grouped(keys, values, n)
     has = counts > 0
     med = np.zeros(n)
     c, s0 = counts[has], starts[has]
@@ -550,11 +575,9 @@ def free_surface(
         if no_more(trial):
             break
         size, (closed, cand, widest) = wider, trial
-    margin = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
-        cv2.MORPH_ELLIPSE, (2 * MARGIN_PX + 1,) * 2)).astype(bool)
+    margin = _within(cand, MARGIN_PX)
     surface = np.where(margin, closed, smooth).astype(np.float32)
-    near = cv2.dilate(cand.astype(np.uint8), cv2.getStructuringElement(
-        cv2.MORPH_ELLIPSE, (2 * RING_GAP_PX + 1,) * 2)).astype(bool)
+    near = _within(cand, RING_GAP_PX)
     _fit_over_contacts(surface, smooth, margin, near, lit_mask, widest)
     if contact_is == "bright":
         surface = (top - surface).astype(np.float32)
