@@ -35,7 +35,11 @@ estimate is continued over the contact from around it and keeps the ice's bubble
 scratches dark there: its seeds and unmixed pixels are read against the local free
 surface instead (the darkness's grey opening by a disc as wide as the zone around
 resolved contact, :func:`_over_local_free`), and only seeds within that zone
-(:data:`ZONE_PX`) are contact (farther ones may be the ice's dust).
+(:data:`ZONE_PX`) are contact (farther ones may be the ice's dust), and, beyond it, thin
+contact (too thin or small to be resolved) where it reaches the half-contact threshold
+over the local free surface, its blur unmixed with it: the segmentation's own decision,
+which the free surface's reach does not pass; not in the lit zone's rim band, where the
+light's own fall-off reaches as dark.
 
 Where the sampled frames show no resolved contact and the free surface is the video's own (a
 fixed camera: the box around the seeds is read), the contact is a field of junctions below
@@ -866,7 +870,8 @@ class FrameArea:
 
 
 def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved: np.ndarray,
-                   model: AreaModel, finite: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+                   model: AreaModel, finite: np.ndarray, rim: np.ndarray | None = None
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
     """The seed pixels that are contact: those within :data:`ZONE_PX` of an anchor (resolved
     contact, or a region above the half-contact threshold of ``min_cluster_px`` pixels at
     least that the image border cuts, too thin to be resolved only because the view ends
@@ -877,9 +882,18 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     free surface keeps the dust dark, which resolved contact tells apart). The rest (noise,
     a texture or dust spot) is free surface.
 
-    Second: in that static scene, the clusters beyond the anchors' zone that pass the
-    significance test (junctions of the same contact farther out, or the ice's dust: the
-    error bar's high end holds them); None elsewhere."""
+    In that static scene, beyond the zone, the seeds at the half-contact threshold (`d`,
+    read against the local free surface; outside the lit zone's `rim` band, of `d`'s
+    shape, when given) are contact too: thin contact, a junction too thin or small for the
+    3 x 3 opening, is contact by the segmentation's own decision, which the free surface
+    (its reach below that threshold) does not pass; its blur is unmixed with it in the
+    kept seeds' envelope (:func:`_envelope`). Dust and bubbles fainter than half of full
+    contact are not taken; flaws that reach it (overlapping bubbles or scratches on
+    crowded ice) are. In the rim band the light's own fall-off reaches as dark.
+
+    Second: in that static scene, the rest of the clusters beyond the anchors' zone that
+    pass the significance test (junctions of the same contact farther out, or the ice's
+    dust: the error bar's high end holds them); None elsewhere."""
     if not seeds.any():
         return seeds, None
     anchors = resolved | _at_border(_clusters(half, model.min_cluster_px))
@@ -902,7 +916,12 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     keep = (size >= model.min_cluster_px) & (excess > z * noise)
     keep[0] = False
     if static_shown:
-        return near, keep[lab]
+        # thin contact beyond the zone: at half of full contact over the local free surface
+        with np.errstate(invalid="ignore"):
+            thin = (d >= model.threshold) & seeds
+        if rim is not None:
+            thin &= ~rim
+        return near | thin, keep[lab] & ~thin
     return keep[lab] | near, None
 
 
@@ -1140,7 +1159,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     seeds &= ~edge  # seeds on a resolved region's edge are its own
     maybe = None
     if seeds.any():
-        seeds, maybe = _kept_clusters(u, seeds, half, resolved, model, finite)
+        rim = None if model.rim is None else (model.rim if whole else model.rim[box])
+        seeds, maybe = _kept_clusters(u, seeds, half, resolved, model, finite, rim)
         near = _envelope(seeds)  # the unresolved contact's envelope
     else:
         near = seeds
