@@ -870,7 +870,7 @@ class FrameArea:
 
 
 def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved: np.ndarray,
-                   model: AreaModel, finite: np.ndarray, rim: np.ndarray | None = None
+                   model: AreaModel, finite: np.ndarray, box: tuple[slice, slice] | None = None
                    ) -> tuple[np.ndarray, np.ndarray | None]:
     """The seed pixels that are contact: those within :data:`ZONE_PX` of an anchor (resolved
     contact, or a region above the half-contact threshold of ``min_cluster_px`` pixels at
@@ -883,13 +883,14 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     a texture or dust spot) is free surface.
 
     In that static scene, beyond the zone, the seeds at the half-contact threshold (`d`,
-    read against the local free surface; outside the lit zone's `rim` band, of `d`'s
-    shape, when given) are contact too: thin contact, a junction too thin or small for the
-    3 x 3 opening, is contact by the segmentation's own decision, which the free surface
-    (its reach below that threshold) does not pass; its blur is unmixed with it in the
-    kept seeds' envelope (:func:`_envelope`). Dust and bubbles fainter than half of full
-    contact are not taken; flaws that reach it (overlapping bubbles or scratches on
-    crowded ice) are. In the rim band the light's own fall-off reaches as dark.
+    read against the local free surface, of the frame or of ``frame[box]``; outside the
+    lit zone's rim band, ``model.rim``) are contact too: thin contact, a junction too thin
+    or small for the 3 x 3 opening, is contact by the segmentation's own decision, which
+    the free surface (its reach below that threshold) does not pass; its blur is unmixed
+    with it in the kept seeds' envelope (:func:`_envelope`). Dust and bubbles fainter than
+    half of full contact are not taken; flaws that reach it (overlapping bubbles or
+    scratches on crowded ice) are. In the rim band the light's own fall-off reaches as
+    dark.
 
     Second: in that static scene, the rest of the clusters beyond the anchors' zone that
     pass the significance test (junctions of the same contact farther out, or the ice's
@@ -919,8 +920,8 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
         # thin contact beyond the zone: at half of full contact over the local free surface
         with np.errstate(invalid="ignore"):
             thin = (d >= model.threshold) & seeds
-        if rim is not None:
-            thin &= ~rim
+        if model.rim is not None:
+            thin &= ~(model.rim if box is None else model.rim[box])
         return near | thin, keep[lab] & ~thin
     return keep[lab] | near, None
 
@@ -1159,8 +1160,7 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     seeds &= ~edge  # seeds on a resolved region's edge are its own
     maybe = None
     if seeds.any():
-        rim = None if model.rim is None else (model.rim if whole else model.rim[box])
-        seeds, maybe = _kept_clusters(u, seeds, half, resolved, model, finite, rim)
+        seeds, maybe = _kept_clusters(u, seeds, half, resolved, model, finite, box)
         near = _envelope(seeds)  # the unresolved contact's envelope
     else:
         near = seeds
