@@ -361,9 +361,8 @@ def _half_depth_widths(lab: np.ndarray, n: int, d: np.ndarray, rel: np.ndarray,
     owner = np.where(lab > 0, lab, grown)  # a region's own pixels stay its own
     level = core[owner]
     band = (owner > 0) & lit & (d >= _HALF_BAND[0] * level) & (d <= _HALF_BAND[1] * level)
-    g, has = _group_medians(owner[band], rel[band], n)
-    counts = np.bincount(owner[band], minlength=n)
-    ok = has & (counts >= MIN_EDGE_SAMPLES) & (g > 0)
+    g, counts = _group_medians(owner[band], rel[band], n)
+    ok = (counts >= MIN_EDGE_SAMPLES) & (g > 0)
     ok[0] = False
     widths[ok] = core[ok] / g[ok]
     return widths, core
@@ -405,8 +404,9 @@ def _edge_widths(lab: np.ndarray, n: int, grad: np.ndarray, depth: np.ndarray,
     inner = cv2.erode(mask, np.ones((3, 3), np.uint8)).astype(bool)
     ring = cv2.dilate(mask, np.ones((3, 3), np.uint8)).astype(bool) & ~inner & lit
     owner = cv2.dilate(lab.astype(np.float32), np.ones((3, 3), np.uint8)).astype(np.int32)
-    g, has = _group_medians(owner[ring], grad[ring], n)
+    g, counts = _group_medians(owner[ring], grad[ring], n)
     dk, _ = _group_medians(lab[lab > 0], depth[lab > 0], n)
+    has = counts > 0
     widths = np.zeros(n)
     with np.errstate(divide="ignore", invalid="ignore"):
         widths[has] = np.where(g[has] > 0, dk[has] / g[has], np.inf)
@@ -416,15 +416,15 @@ def _edge_widths(lab: np.ndarray, n: int, grad: np.ndarray, depth: np.ndarray,
 def _group_medians(keys: np.ndarray, values: np.ndarray, n: int
                    ) -> tuple[np.ndarray, np.ndarray]:
     """Median of `values` for each key in ``0..n-1`` (as :func:`numpy.median`: the mean of
-    the two middle values of an even group, in the values' dtype) and which keys occur;
-    one sort instead of a pass over the image per key."""
+    the two middle values of an even group, in the values' dtype; 0 for keys that do not
+    occur) and each key's count; one sort instead of a pass over the image per key."""
     v, counts, starts = _grouped(keys, values, n)
     has = counts > 0
     med = np.zeros(n)
     c, s0 = counts[has], starts[has]
     lo, hi = v[s0 + (c - 1) // 2], v[s0 + c // 2]
     med[has] = np.where(c % 2 == 1, hi, (lo + hi) / v.dtype.type(2))
-    return med, has
+    return med, counts
 
 
 #: Widest disc (px, on the working image) of a closing done at the working scale; a wider
