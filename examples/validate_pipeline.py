@@ -31,9 +31,12 @@ Three parts (each can be skipped):
    ``[contact_area_low_mm2, contact_area_high_mm2]`` (n/a where ``frames.csv`` has no such
    columns); ``--load-series``: a rough pad on a textured field at 0.5/1/2/4 bar, the
    intercept at zero load of the line through (load, measured area) over the lowest load's
-   area; ``--table``: the renders of issue 21's table (:mod:`synthetic.table`; the three
-   contacts with a fold with and without the scene's own empty frame as ``--reference``,
-   the round pad, the smooth sphere, the bright patches, and a rough pad under stray light).
+   area, and the same series on eight further draws (its own rough face and texture each:
+   each load's area error and the measured line's departure from the true one,
+   ``validation_load_series_draws.csv``); ``--table``: the renders of issue 21's table
+   (:mod:`synthetic.table`; the three contacts with a fold with and without the scene's
+   own empty frame as ``--reference``, the round pad, the smooth sphere, the bright
+   patches, and a rough pad under stray light).
    Targets (``MEASUREMENT_TARGETS``): area median <= 2 %, p95 <= 8 %, truth in the bar in
    >= 90 % of frames, |intercept| < 20 %.
 3. *Fixed thesis cases* (``--fixed``): the renderer's default camera (0.1 mm/px,
@@ -69,6 +72,7 @@ from _domain_validation import (
     element_pairs,
     length_errors,
     load_series,
+    load_series_draws,
     summarise,
     validate_clip,
     validate_table_clip,
@@ -226,9 +230,10 @@ def _pct(value) -> str:
 
 
 def measurement_markdown(summaries: dict[str, pd.DataFrame], table: pd.DataFrame | None,
-                         series: tuple[pd.DataFrame, dict] | None) -> str:
-    """Issue 21's measurement table: per class (of each summary), per table render and the
-    load series, with the targets."""
+                         series: tuple[pd.DataFrame, dict] | None,
+                         draws: pd.DataFrame | None = None) -> str:
+    """Issue 21's measurement table: per class (of each summary), per table render, the
+    load series and its further draws, with the targets."""
     t = MEASUREMENT_TARGETS
     lines = ["Contact area as a measurement (issue 21). Targets: area error median <= "
              f"{t['area_err_pct median']:g} %, p95 <= {t['area_err_pct p95']:g} %, true area "
@@ -265,7 +270,31 @@ def measurement_markdown(summaries: dict[str, pd.DataFrame], table: pd.DataFrame
                   f"{r['measured_mm2']:.4f} |" for r in frame.to_dict("records")]
         lines += ["", f"Intercept at zero load: measured {fit['intercept_pct']:.1f} % of the "
                   f"lowest load's area (truth {fit['true_intercept_pct']:.1f} %)."]
+    if draws is not None:
+        lines += ["", "", draws_markdown(draws)]
     return "\n".join(lines) + "\n"
+
+
+def draws_markdown(draws: pd.DataFrame) -> str:
+    """The load series' further draws (:func:`load_series_draws`) as a markdown table and
+    their summary line."""
+    errs = [c for c in draws.columns if c.startswith("err_pct ")]
+    loads = [c.split()[1] for c in errs]
+    lines = ["Load series, further draws (seeds "
+             f"{draws.seed.min()}-{draws.seed.max()}): area error at each load, intercepts:", "",
+             "| seed | " + " | ".join(f"{p} bar, %" for p in loads)
+             + " | intercept, % (truth) | measured - true, points |",
+             "|---" * (len(errs) + 3) + "|"]
+    for r in draws.to_dict("records"):
+        lines.append(f"| {r['seed']} | " + " | ".join(f"{r[c]:+.1f}" for c in errs)
+                     + f" | {r['intercept_pct']:.1f} ({r['true_intercept_pct']:.1f}) | "
+                     f"{r['intercept_off_pts']:+.1f} |")
+    e = np.abs(draws[errs].to_numpy().ravel())
+    lines += ["", f"|area error| median {np.median(e):.1f} %, p95 {np.percentile(e, 95):.1f} % "
+              f"over {e.size} loads; truth in the bar in {draws.frames_in_band.sum()} of "
+              f"{draws.frames_scored.sum()} frames; |measured - true intercept| at most "
+              f"{draws.intercept_off_pts.abs().max():.1f} points."]
+    return "\n".join(lines)
 
 
 def run_ratio(out: Path) -> pd.DataFrame:
@@ -315,7 +344,7 @@ def run_fixed(out: Path, frames: int) -> pd.DataFrame:
 
 def _measurement(args: argparse.Namespace, summaries: dict[str, pd.DataFrame]) -> None:
     """The table set, the load series and ``validation_measurement.md``."""
-    table = series = None
+    table = series = draws = None
     if args.load_series:
         from synthetic.roughness import MissingExtraError, require_tamaas
 
@@ -335,9 +364,12 @@ def _measurement(args: argparse.Namespace, summaries: dict[str, pd.DataFrame]) -
         print(f"load-series intercept {series[1]['intercept_pct']:.1f} % of the lowest load's "
               f"area (truth {series[1]['true_intercept_pct']:.1f} %; target |.| < "
               f"{MEASUREMENT_TARGETS['intercept_pct']:g} %)")
+        draws = load_series_draws()
+        draws.to_csv(args.out / "validation_load_series_draws.csv", index=False)
+        print(draws_markdown(draws))
     if summaries or table is not None or series is not None:
         (args.out / "validation_measurement.md").write_text(
-            measurement_markdown(summaries, table, series))
+            measurement_markdown(summaries, table, series, draws))
 
 
 def main() -> None:
