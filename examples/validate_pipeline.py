@@ -33,7 +33,8 @@ Three parts (each can be skipped):
    intercept at zero load of the line through (load, measured area) over the lowest load's
    area, and the same series on eight further draws (its own rough face and texture each:
    each load's area error and the measured line's departure from the true one,
-   ``validation_load_series_draws.csv``); ``--table``: the renders of issue 21's table
+   ``validation_load_series_draws.csv``; ``--no-load-series-draws`` skips them);
+   ``--table``: the renders of issue 21's table
    (:mod:`synthetic.table`; the three contacts with a fold with and without the scene's
    own empty frame as ``--reference``, the round pad, the smooth sphere, the bright
    patches, and a rough pad under stray light).
@@ -50,7 +51,7 @@ Three parts (each can be skipped):
 
 Run: ``python examples/validate_pipeline.py [--out validation-out] [--domain 200]
 [--physical 12] [--seed 0] [--workers 2] [--no-ratio] [--no-fixed] [--frames 400]
-[--table] [--no-load-series]``.
+[--table] [--no-load-series] [--no-load-series-draws]``.
 """
 
 from __future__ import annotations
@@ -71,6 +72,7 @@ from _domain_validation import (
     angle_errors,
     element_pairs,
     length_errors,
+    load_error_columns,
     load_series,
     load_series_draws,
     summarise,
@@ -278,7 +280,7 @@ def measurement_markdown(summaries: dict[str, pd.DataFrame], table: pd.DataFrame
 def draws_markdown(draws: pd.DataFrame) -> str:
     """The load series' further draws (:func:`load_series_draws`) as a markdown table and
     their summary line."""
-    errs = [c for c in draws.columns if c.startswith("err_pct ")]
+    errs = load_error_columns(draws)
     loads = [c.split()[1] for c in errs]
     lines = ["Load series, further draws (seeds "
              f"{draws.seed.min()}-{draws.seed.max()}): area error at each load, intercepts:", "",
@@ -290,10 +292,11 @@ def draws_markdown(draws: pd.DataFrame) -> str:
                      + f" | {r['intercept_pct']:.1f} ({r['true_intercept_pct']:.1f}) | "
                      f"{r['intercept_off_pts']:+.1f} |")
     e = np.abs(draws[errs].to_numpy().ravel())
-    lines += ["", f"|area error| median {np.median(e):.1f} %, p95 {np.percentile(e, 95):.1f} % "
-              f"over {e.size} loads; truth in the bar in {draws.frames_in_band.sum()} of "
-              f"{draws.frames_scored.sum()} frames; |measured - true intercept| at most "
-              f"{draws.intercept_off_pts.abs().max():.1f} points."]
+    lines += ["", f"Over their {e.size} loads the area error's median magnitude is "
+              f"{np.median(e):.1f} % and its p95 {np.percentile(e, 95):.1f} %; the truth in the "
+              f"bar in {draws.frames_in_band.sum()} of {draws.frames_scored.sum()} frames; the "
+              f"measured intercept within {draws.intercept_off_pts.abs().max():.1f} points of "
+              "the true one."]
     return "\n".join(lines)
 
 
@@ -364,9 +367,10 @@ def _measurement(args: argparse.Namespace, summaries: dict[str, pd.DataFrame]) -
         print(f"load-series intercept {series[1]['intercept_pct']:.1f} % of the lowest load's "
               f"area (truth {series[1]['true_intercept_pct']:.1f} %; target |.| < "
               f"{MEASUREMENT_TARGETS['intercept_pct']:g} %)")
-        draws = load_series_draws()
-        draws.to_csv(args.out / "validation_load_series_draws.csv", index=False)
-        print(draws_markdown(draws))
+        if args.load_series_draws:
+            draws = load_series_draws()
+            draws.to_csv(args.out / "validation_load_series_draws.csv", index=False)
+            print(draws_markdown(draws))
     if summaries or table is not None or series is not None:
         (args.out / "validation_measurement.md").write_text(
             measurement_markdown(summaries, table, series, draws))
@@ -392,6 +396,9 @@ def main() -> None:
                     "frame as --reference")
     ap.add_argument("--load-series", action=argparse.BooleanOptionalAction, default=True,
                     help="rough pad at 0.5/1/2/4 bar (needs the contact extra)")
+    ap.add_argument("--load-series-draws", action=argparse.BooleanOptionalAction, default=True,
+                    help="with --load-series: the same series on eight further draws "
+                         "(about 40 s)")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     pd.set_option("display.width", 200)

@@ -886,7 +886,8 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
 
     In that static scene the seeds inside the zone are contact where they pass the zone's
     own level (:func:`_over_zone_level`: the light's texture the estimate cannot follow
-    there added), and, beyond the zone, the seeds at the half-contact threshold (`d`,
+    there added; those below it are judged as the seeds beyond the zone are), and, beyond
+    the zone, the seeds at the half-contact threshold (`d`,
     read against the local free surface, of the frame or of ``frame[box]``; outside the
     lit zone's rim band, ``model.rim``) are contact too: thin contact, a junction too thin
     or small for the 3 x 3 opening, is contact by the segmentation's own decision, which
@@ -905,7 +906,8 @@ def _kept_clusters(d: np.ndarray, seeds: np.ndarray, half: np.ndarray, resolved:
     near = (cv2.dilate(anchors.view(np.uint8), _ZONE).astype(bool) & seeds
             if anchors.any() else np.zeros(seeds.shape, bool))
     static_shown = _shows_contact(model)
-    # the seed level's z: its false-alarm rate per pixel
+    # the seed level in the free surface's sigmas above b (where the reach is the Gaussian
+    # extrapolation: the quantile of the frame's false-alarm rate per pixel)
     z = (model.seed_median - model.offset) / max(model.sigma_free, 1e-9)
     if static_shown:  # dust is dark here: resolved contact shows where contact is
         if model.zone_sigma > 0 and near.any():
@@ -939,19 +941,22 @@ def _over_zone_level(d: np.ndarray, model: AreaModel, z: float,
     frame or of ``frame[box]``) passes the seed level of the zone around resolved
     contact: the frame's seed level ``model.seed`` with the spread of the light the
     estimate continues over the contact but cannot follow there (``model.zone_sigma``,
-    the free surface's texture) added in quadrature, at the frame's false-alarm rate per
-    pixel (its `z`).
+    the free surface's texture) added in quadrature, `z` of it (the frame's seed level in
+    the free surface's sigmas: the same false-alarm rate per pixel); at most the
+    half-contact threshold, where the segmentation itself calls a pixel contact.
 
     At the frame's own level the texture's dark side passes there and its envelope is
     unmixed as contact (the load series' first frame at 1 bar: 2140 px of envelope, 1960
     of them free surface, read 262 px of contact where 110 px are true; on 29 draws of
-    the series each load read 5-18 % high on average, now -6 to +1 %).
+    the series each load read 5-18 % high on average, now -6 to +1 %). The seeds below
+    the level go on to the tests beyond the zone (:func:`_kept_clusters`): at the
+    half-contact threshold they are thin contact, else the bar's high end may hold them.
     """
     seed = model.seed if box is None else model.seed[box]
     level = model.offset + np.hypot(seed - np.float32(model.offset),
                                     np.float32(z * model.zone_sigma))
     with np.errstate(invalid="ignore"):
-        return d >= level
+        return d >= np.minimum(level, np.float32(model.threshold))
 
 
 def _shows_contact(model: AreaModel) -> bool:
