@@ -38,7 +38,8 @@ ground truth. Per clip:
 
 Issue 21's measurement targets (:data:`MEASUREMENT_TARGETS`) are checked on the physical
 classes, the renders of the issue's table (:func:`validate_table_clip`, footage of
-:mod:`synthetic.table`) and a load series (:func:`load_series`).
+:mod:`synthetic.table`), a load series (:func:`load_series`) and the same series on
+further draws (:func:`load_series_draws`).
 """
 
 from __future__ import annotations
