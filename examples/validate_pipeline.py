@@ -68,6 +68,7 @@ import pandas as pd
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _domain_validation import (
+    LOAD_ERROR_PREFIX,
     MEASUREMENT_TARGETS,
     angle_errors,
     element_pairs,
@@ -281,7 +282,7 @@ def draws_markdown(draws: pd.DataFrame) -> str:
     """The load series' further draws (:func:`load_series_draws`) as a markdown table and
     their summary line."""
     errs = load_error_columns(draws)
-    loads = [c.split()[1] for c in errs]
+    loads = [c.removeprefix(LOAD_ERROR_PREFIX) for c in errs]
     lines = ["Load series, further draws (seeds "
              f"{draws.seed.min()}-{draws.seed.max()}): area error at each load, intercepts:", "",
              "| seed | " + " | ".join(f"{p} bar, %" for p in loads)

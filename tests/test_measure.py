@@ -402,6 +402,14 @@ def _textured_static_scene(seed: int, spots: int = 0) -> tuple[np.ndarray, np.nd
 _TEXTURE_CORR_PX = 4 * np.pi * 2.0 ** 2
 
 
+def _zone_and_frame_level_readings(d: np.ndarray):
+    """`d` read as a static scene with the zone's texture known (0.09 rms,
+    :data:`_TEXTURE_CORR_PX`) and without it (the frame's seed level in the zone too)."""
+    zone = frame_area(d, area_model([d], _sigma_map(0.01), static=True, zone_sigma=0.09,
+                                    zone_corr_px=_TEXTURE_CORR_PX))
+    return zone, frame_area(d, area_model([d], _sigma_map(0.01), static=True))
+
+
 @pytest.mark.parametrize("seed", [1, 2, 3, 4])
 def test_static_scene_keeps_the_lights_texture_beside_contact_out_of_the_area(seed):
     """Beside a static scene's resolved contact (314 px) the estimate cannot follow the
@@ -411,15 +419,12 @@ def test_static_scene_keeps_the_lights_texture_beside_contact_out_of_the_area(se
     quadrature at the same false-alarm rate, none of it is kept: the area is the resolved
     contact's, within 3 % (its edge band still reads the texture: -1.4 to +2.1 %)."""
     d, cov = _textured_static_scene(seed)
-    m = area_model([d], _sigma_map(0.01), static=True, zone_sigma=0.09,
-                   zone_corr_px=_TEXTURE_CORR_PX)
-    a = frame_area(d, m)
+    a, plain = _zone_and_frame_level_readings(d)
     true = float(cov.sum())
     assert a.unmixed_px < 1.0
     assert a.area_px == pytest.approx(true, rel=0.03)
     assert a.low_px <= true <= a.high_px
     # without the zone's texture the frame's level takes the texture for contact
-    plain = frame_area(d, area_model([d], _sigma_map(0.01), static=True))
     assert plain.unmixed_px > 10.0
 
 
@@ -431,15 +436,12 @@ def test_static_scene_junctions_beside_contact_on_texture_are_read_in_their_bar(
     frame's level -0.9 to +6.5 %, the texture's dark side taken with them, 18-43 px
     unmixed): within the issue's 8 % p95 target, the truth in the bar."""
     d, cov = _textured_static_scene(seed, spots=6)
-    m = area_model([d], _sigma_map(0.01), static=True, zone_sigma=0.09,
-                   zone_corr_px=_TEXTURE_CORR_PX)
-    a = frame_area(d, m)
+    a, plain = _zone_and_frame_level_readings(d)
     true = float(cov.sum())
     assert a.unmixed_px > 2.0  # junctions are kept
     assert a.area_px == pytest.approx(true, rel=0.08)
     assert a.low_px <= true <= a.high_px
     # the frame's level unmixes more: the texture's dark side with the junctions
-    plain = frame_area(d, area_model([d], _sigma_map(0.01), static=True))
     assert plain.unmixed_px > a.unmixed_px
 
 
