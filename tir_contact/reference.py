@@ -98,8 +98,9 @@ class FreeSurface:
         Widest candidate (twice its largest inscribed radius), px.
     texture_sigma, texture_corr_px : float
         Spread (relative) and correlation area (px) of the light's variation at scales
-        below :data:`TEXTURE_SCALE_PX` on the free surface (:func:`_texture`): what an
-        estimate continued over a contact cannot follow there.
+        below :data:`TEXTURE_SCALE_PX` on the free surface at least that far inside the
+        lit zone's edge (:func:`_texture`, :func:`_inner`): what an estimate continued
+        over a contact cannot follow there.
     """
 
     image: np.ndarray
@@ -581,7 +582,7 @@ def free_surface(
     _fit_over_contacts(surface, smooth, margin, near, lit_mask, widest)
     if contact_is == "bright":
         surface = (top - surface).astype(np.float32)
-    tex, tex_corr = _texture(smooth, lit_mask & ~margin) if texture else (0.0, 1.0)
+    tex, tex_corr = _texture(smooth, _inner(lit_mask, ~margin)) if texture else (0.0, 1.0)
     return FreeSurface(surface, cand, size, widest, tex, tex_corr)
 
 
@@ -619,11 +620,27 @@ def _contact_dark(trial: tuple[np.ndarray, np.ndarray, float], cand: np.ndarray,
 TEXTURE_SCALE_PX = 2 * MARGIN_PX
 
 
+def _inner(lit: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """The `free` lit pixels farther than :data:`TEXTURE_SCALE_PX` from the lit zone's edge
+    (all the free lit pixels where that leaves under :data:`MIN_TEXTURE_PX`): the light
+    field the texture is read against (a Gaussian over that scale) holds little of the
+    unlit outside there, whose fall-off at the rim would read as texture."""
+    if lit.all():
+        return free
+    dist = cv2.distanceTransform(lit.astype(np.uint8), cv2.DIST_L2, 3)
+    inner = (dist > TEXTURE_SCALE_PX) & free
+    return inner if np.count_nonzero(inner) >= MIN_TEXTURE_PX else lit & free
+
+
+#: Fewest free pixels the texture is measured on.
+MIN_TEXTURE_PX = 100
+
+
 def _texture(smooth: np.ndarray, free: np.ndarray) -> tuple[float, float]:
     """Robust spread (1.4826 MAD) of ``smooth / field - 1`` on the `free` pixels, ``field``
     the light smoothed over :data:`TEXTURE_SCALE_PX`, and its correlation area in px
     (:func:`tir_contact.measure.correlation_area`)."""
-    if free.sum() < 100:
+    if free.sum() < MIN_TEXTURE_PX:
         return 0.0, 1.0
     field = cv2.GaussianBlur(smooth, (0, 0), TEXTURE_SCALE_PX)
     with np.errstate(divide="ignore", invalid="ignore"):
