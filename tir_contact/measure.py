@@ -86,6 +86,7 @@ import cv2
 import numpy as np
 from scipy.stats import norm
 
+from tir_contact._morphology import disc_close
 from tir_contact.graded import FreeLevel, graded_contact
 
 __all__ = [
@@ -95,6 +96,7 @@ __all__ = [
     "ZONE_PX",
     "AreaModel",
     "FrameArea",
+    "absorbed_darkness",
     "area_model",
     "correlation_area",
     "frame_area",
@@ -222,6 +224,13 @@ class AreaModel:
         (:func:`_free_tiles`): the pixels summed against ``field_offset`` may lie where it
         differs by this much, which the error bar holds (:func:`frame_area`); 0 where not
         known.
+    absorbed : (M, N) ndarray of float32 or None
+        A static junction field (no contact resolved, the free surface estimated from
+        images that show the contact): the share of the light by which the estimate may lie
+        below the free surface's at each pixel, having followed dark spots narrower than
+        the local free surface's disc (:func:`absorbed_darkness`); the error bar's high end
+        reads the frame against the estimate without them (:func:`frame_area`). None
+        elsewhere.
     graded : bool
         The contact is graded: a field of junctions below the pixel that reaches half of
         full contact only in the dense band at each face's front
@@ -259,6 +268,7 @@ class AreaModel:
     graded: bool = False
     field_offset: float = math.nan
     field_offset_spread: float = 0.0
+    absorbed: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def junction_field(self) -> bool:
@@ -655,12 +665,18 @@ def _rises(outer: tuple[float, float], inner: tuple[float, float]) -> bool:
     return m1 - m0 > max(3.0 * math.hypot(s0, s1), PLATEAU_RISE * abs(m0))
 
 
+#: The end of a static scene's note where no contact is resolved.
+_STATIC_SPOTS_NOTE = ("; in this static scene faint dark spots may as well be the ice's dust, "
+                      "bubbles or scratches: the error bar reaches down to no contact")
+
+
 def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                contrast: float | None = None, min_cluster_px: int = 4,
                static: bool = False, zone_sigma: float = 0.0,
                zone_corr_px: float = 1.0,
                rim: tuple[np.ndarray, np.ndarray, int] | None = None,
-               bright: bool = False, optics: tuple[float, str] | None = None) -> AreaModel:
+               bright: bool = False, optics: tuple[float, str] | None = None,
+               absorbed: np.ndarray | None = None) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -701,6 +717,10 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         :data:`ASSUMED_FULL_RANGE` (stray light and the black level only lower it; the
         rubber's index is rarely known to better than 1.45-1.6).
 
+    absorbed : (M, N) ndarray, optional
+        A static scene: what its free-surface estimate may have absorbed of dark spots
+        narrower than the local free surface's disc (:func:`absorbed_darkness`); kept in
+        the model where no contact is resolved (a junction field), whose high end reads it.
     Returns
     -------
     AreaModel
@@ -779,9 +799,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                 + (f"({optics[1]}) " if optics is not None else "")
                 + f"(range {c_lo:g}-{c_hi:g}); give --contrast with the darkness of full "
                 "contact of your setup if it has stray light"
-                + ("; in this static scene faint dark spots may as well be the ice's dust, "
-                   "bubbles or scratches: the error bar reaches down to no contact" if static
-                   else ""))
+                + (_STATIC_SPOTS_NOTE if static else ""))
     threshold = max(c / 2, reach)
     separation = ((c / 2 - b) / (reach - b)) if reach > b else math.inf
     if separation <= 1.0:
@@ -795,7 +813,27 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                       int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
                       *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
                       weak_plateau=weak, reach_measured=measured)
+    if static and absorbed is not None and model.junction_field:
+        model = _with_absorbed(model, absorbed)
     return _graded_model(model, samples, few)
+
+
+def _with_absorbed(model: AreaModel, absorbed: np.ndarray) -> AreaModel:
+    """A static junction field's `model` with what its estimate may have absorbed
+    (:attr:`AreaModel.absorbed`) and a note that says what the bar's high end reads: a
+    clause of the static scene's note on faint dark spots where it has one."""
+    high = (f"its high end reads the frame against the free-surface estimate without the "
+            f"dark spots narrower than {LOCAL_FREE_PX} px it followed, which may be "
+            "junctions too faint or small to be taken for contact")
+    notes = list(model.notes)
+    for k, note in enumerate(notes):
+        if note.endswith(_STATIC_SPOTS_NOTE):
+            notes[k] = f"{note}, and {high}"
+            break
+    else:
+        notes.append(f"no contact is resolved in this static scene: the error bar's {high}; "
+                     "give an empty frame (--reference) to measure the free surface")
+    return replace(model, absorbed=np.asarray(absorbed, np.float32), notes=notes)
 
 
 def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndarray]
@@ -1048,6 +1086,40 @@ def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b:
     return area, n_deep + int(np.count_nonzero(d_b >= t_lo))
 
 
+def absorbed_darkness(surface: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """The share of the light by which a static scene's free-surface estimate `surface`
+    (grey values) lies below its grey closing by the local free surface's disc
+    (:data:`LOCAL_FREE_PX`), on the `valid` pixels (0 elsewhere): the dark spots narrower
+    than the disc it followed, which may be junctions it took for the light (those not
+    found as contact candidates are the image itself there) or the light's own texture.
+
+    Examples
+    --------
+    >>> s = np.full((40, 40), 100.0, np.float32); s[20, 20] = 60.0  # a followed spot
+    >>> a = absorbed_darkness(s, np.ones(s.shape, bool))
+    >>> round(float(a[20, 20]), 2), float(a[5, 5])
+    (0.4, 0.0)
+    """
+    s = np.asarray(surface, np.float32)
+    closed = np.maximum(disc_close(s, LOCAL_FREE_PX), s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = np.where(valid & (closed > 0), 1.0 - s / np.maximum(closed, 1e-6), 0.0)
+    return a.astype(np.float32)
+
+
+def _absorbed_budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> float:
+    """A static junction field's darkness budget read against its estimate without the
+    dark spots it may have absorbed (``model.absorbed`` = ``A``): a pixel's darkness
+    ``d`` against the estimate is ``1 - (1 - d)(1 - A)`` against that one; summed over the
+    measured pixels less the free surface's mean, over full contact's low end."""
+    if not np.any(finite):
+        return 0.0
+    a = model.absorbed[finite]
+    x = d[finite]
+    total = float(np.sum(x + a * (1.0 - x) - model.mean_free, dtype=np.float64))
+    return total / max(model.contact_low, 1e-6)
+
+
 def _budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> tuple[float, float]:
     """The frame's darkness budget: the excess darkness of every measured pixel over the
     free surface's mean (its dust and texture included), as contact area (px), and its
@@ -1253,6 +1325,11 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
             # mean (dust included) taken out everywhere, is the other plausible decision
             low = min(low, budget - BAND_SIGMAS * sd_g)
         high = max(high, budget + BAND_SIGMAS * sd_g)
+        if model.absorbed is not None:
+            # a static junction field: read against the estimate without the dark spots
+            # it may have followed (junctions it took for the light), over full contact's
+            # low end
+            high = max(high, _absorbed_budget(d, finite, model) + BAND_SIGMAS * sd_g)
     area = max(area, 0.0)  # a field's box of noise alone may sum below zero
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))

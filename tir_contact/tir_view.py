@@ -37,7 +37,15 @@ from tir_contact._readers import FootageError
 from tir_contact.features import EDGE_MARGIN_PX, ValidCounts, frame_rows, graded_back_px
 from tir_contact.flatfield import Reference
 from tir_contact.illumination import LitZone, lit_zone_from_file
-from tir_contact.measure import EDGE_PX, ZONE_PX, AreaModel, FrameArea, area_model, frame_area
+from tir_contact.measure import (
+    EDGE_PX,
+    ZONE_PX,
+    AreaModel,
+    FrameArea,
+    absorbed_darkness,
+    area_model,
+    frame_area,
+)
 from tir_contact.options import AnalysisOptions
 from tir_contact.overlay import draw_tir_overlay
 from tir_contact.reference import TirReference, measurable, tir_reference
@@ -413,11 +421,16 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     darkness = [norm(f) for f in samples]
     if sigma is None:
         sigma = tref.noise.sigma_darkness(tref.reference.image)
+    static = tref.camera == "follows"
+    # a static scene's estimate is the image itself beyond its contact candidates: what it
+    # may have absorbed of junctions too faint or small to be candidates (dark contact)
+    absorbed = (absorbed_darkness(tref.reference.image, tref.reference.valid)
+                if static and contact_is == "dark" else None)
     return area_model(darkness, sigma, contrast=options.contrast,
                       min_cluster_px=options.min_area_px,
-                      static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
+                      static=static, zone_sigma=tref.texture_sigma,
                       zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
-                      bright=contact_is == "bright", optics=optics)
+                      bright=contact_is == "bright", optics=optics, absorbed=absorbed)
 
 
 def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReference,
