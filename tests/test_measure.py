@@ -972,3 +972,17 @@ def test_static_junction_field_the_estimate_follows_is_inside_the_bar(seed):
     assert a.low_px <= true <= a.high_px
     old = frame_area(d[0], replace(m, absorbed=None))
     assert old.high_px < true
+
+
+def test_contact_at_the_rim_may_lie_past_the_true_edge():
+    # The same disc, its found edge now 2 px outside the true half-light line (within the
+    # rim band, 4 px, the edge's stated tolerance): the stripe is seen up to the found edge,
+    # but the truth counts it only up to the true line. The bar's low end holds it: the
+    # contact in the band may lie past the true line.
+    d, m, r2, stripe = _disc_with_stripe(160, 200, 60, 60, rim_px=4)
+    a = frame_area(d, m)
+    found, true_zone = r2 < 60 ** 2, r2 < 58 ** 2
+    seen, truth = int((stripe & found).sum()), int((stripe & true_zone).sum())
+    assert abs(a.area_px - seen) < 0.02 * seen
+    assert a.low_px <= truth < seen
+    assert a.low_px > truth - 2 * (seen - truth) - 0.1 * seen  # about the band, not more

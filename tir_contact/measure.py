@@ -705,8 +705,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         The lit zone's rim band (:attr:`tir_contact.illumination.LitZone.rim`), the unlit
         pixels within its width outside the zone, and the width. The zone's edge is the
         rim's half-light line, placed on the image to within the band: contact in the
-        band may go on that far beyond it, and the error bar's high end holds it
-        (:func:`frame_area`).
+        band may go on that far beyond it, and the error bar's high end holds it, or lie
+        beyond the true line, and its low end holds that (:func:`frame_area`).
     bright : bool
         Bright contact (brighter than the free surface, its darkness growing without a
         full level): ``c`` is the median of the interiors (:func:`_full_level`).
@@ -886,6 +886,18 @@ def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | Non
         beyond = beyond[r0 - top : r1 + bottom, c0 - left : c1 + right]
     disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * width + 1,) * 2)
     return int(np.count_nonzero(cv2.dilate(touch, disc).view(np.bool_) & beyond))
+
+
+def _in_rim(d: np.ndarray, zone: np.ndarray, model: AreaModel,
+            box: tuple[slice, slice] | None) -> float:
+    """Contact (px) of the `zone` (of the frame, or of ``frame[box]``) in the lit zone's rim
+    band, each pixel its darkness over full contact's (0 to 1): the half-light line placed
+    to within the band, it may lie beyond the true one."""
+    touch = zone & (model.rim if box is None else model.rim[box])
+    if not touch.any():
+        return 0.0
+    share = (d[touch] - model.offset) / model.contact_darkness
+    return float(np.sum(np.clip(share, 0.0, 1.0), dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -1309,8 +1321,11 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     # a junction field read against the free surface's mean: the median's reading too
     shift = (b_un - b) * n_un / c
     low, high = low - max(-shift, 0.0), high + max(shift, 0.0)
-    if model.rim is not None:  # contact in the rim band may go on past the found edge
+    if model.rim is not None:
+        # the found edge is the half-light line to within the rim band: contact in the band
+        # may go on past it, or lie past the true line
         high += _past_rim(zone, model, box)
+        low -= _in_rim(d, zone, model, box)
     if whole:  # the whole frame: its darkness budget (module notes)
         budget, sd_g = _budget(d, finite, model)
         # where the free surface reaches past half of full contact, the seeds cannot see
