@@ -11,8 +11,9 @@ image (padded above and below only), and gives the same values as OpenCV (only m
 and minima are taken: no rounding). Below :data:`ROWS_FROM_PX` OpenCV is faster and is used.
 
 The border is replicated, as ``cv2.BORDER_REPLICATE`` does. Images are taken as float32
-and must be finite (a NaN spreads through ``numpy.maximum`` where OpenCV skips it); both
-callers pass finite float32 images.
+and must be finite (a NaN spreads through ``numpy.maximum`` where OpenCV skips it); the
+callers (reference.py, and measure.absorbed_darkness on a free-surface estimate) pass
+finite float32 images.
 """
 
 from __future__ import annotations

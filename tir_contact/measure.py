@@ -72,8 +72,12 @@ surface instead of the local one (a junction field denser than the opening's dis
 like a plateau to it) and to the significant seed clusters beyond the zone (junctions of
 the same contact farther out); where ``c`` is a weak plateau
 (:attr:`AreaModel.weak_plateau`), down to the zone's darkness as the share covered of each
-pixel; and up to the unlit pixels that contact in the lit zone's rim band may cover past the
-found edge.
+pixel; up to the unlit pixels that contact in the lit zone's rim band may cover past the
+found edge, and down by the contact the band holds (the edge is the half-light line to
+within the band, so that contact may lie past the true one); in a static scene without
+resolved contact (dark contact), up to the frame read against its free-surface estimate
+without the dark spots narrower than :data:`LOCAL_FREE_PX` it followed
+(:func:`with_absorbed`).
 """
 
 from __future__ import annotations
@@ -100,6 +104,7 @@ __all__ = [
     "area_model",
     "correlation_area",
     "frame_area",
+    "with_absorbed",
 ]
 
 #: Darkness of full contact when the video shows no resolved contact: frustrated TIR of
@@ -224,19 +229,15 @@ class AreaModel:
         (:func:`_free_tiles`): the pixels summed against ``field_offset`` may lie where it
         differs by this much, which the error bar holds (:func:`frame_area`); 0 where not
         known.
-    absorbed : (M, N) ndarray of float32 or None
+    absorbed, absorbed_baseline : (M, N) ndarray of float32 or None, float
         A static junction field (no contact resolved, the free surface estimated from
-        images that show the contact): the share of the light by which the estimate may lie
-        below the free surface's at each pixel, having followed dark spots narrower than
-        the local free surface's disc (:func:`absorbed_darkness`); the error bar's high end
-        reads the frame against the estimate without them (:func:`frame_area`). None
-        elsewhere.
-    graded : bool
-        The contact is graded: a field of junctions below the pixel that reaches half of
-        full contact only in the dense band at each face's front
-        (:func:`tir_contact.graded.graded_contact`), or nowhere (no contact resolved:
-        under :data:`MIN_FULL_PX` interior pixels); the features then find the elements'
-        runs where the columns hold contact at all (:mod:`tir_contact.graded`).
+        images that show the contact; :func:`with_absorbed`): the share of the light by
+        which the estimate lies below its closing by the local free surface's disc at each
+        pixel (:func:`absorbed_darkness`), where it followed dark spots narrower than the
+        disc (junctions or the light's texture), and its median over the measured pixels
+        (the closing's lift over the free surface's own noise, taken out); the error bar's
+        high end reads the frame against the estimate without the spots
+        (:func:`frame_area`). None and 0 elsewhere.
     """
 
     offset: float
@@ -269,6 +270,7 @@ class AreaModel:
     field_offset: float = math.nan
     field_offset_spread: float = 0.0
     absorbed: np.ndarray | None = field(default=None, repr=False)
+    absorbed_baseline: float = 0.0
 
     @property
     def junction_field(self) -> bool:
@@ -675,8 +677,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                static: bool = False, zone_sigma: float = 0.0,
                zone_corr_px: float = 1.0,
                rim: tuple[np.ndarray, np.ndarray, int] | None = None,
-               bright: bool = False, optics: tuple[float, str] | None = None,
-               absorbed: np.ndarray | None = None) -> AreaModel:
+               bright: bool = False, optics: tuple[float, str] | None = None) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -717,10 +718,6 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         :data:`ASSUMED_FULL_RANGE` (stray light and the black level only lower it; the
         rubber's index is rarely known to better than 1.45-1.6).
 
-    absorbed : (M, N) ndarray, optional
-        A static scene: what its free-surface estimate may have absorbed of dark spots
-        narrower than the local free surface's disc (:func:`absorbed_darkness`); kept in
-        the model where no contact is resolved (a junction field), whose high end reads it.
     Returns
     -------
     AreaModel
@@ -813,27 +810,49 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                       int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
                       *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
                       weak_plateau=weak, reach_measured=measured)
-    if static and absorbed is not None and model.junction_field:
-        model = _with_absorbed(model, absorbed)
     return _graded_model(model, samples, few)
 
 
-def _with_absorbed(model: AreaModel, absorbed: np.ndarray) -> AreaModel:
-    """A static junction field's `model` with what its estimate may have absorbed
-    (:attr:`AreaModel.absorbed`) and a note that says what the bar's high end reads: a
-    clause of the static scene's note on faint dark spots where it has one."""
-    high = (f"its high end reads the frame against the free-surface estimate without the "
-            f"dark spots narrower than {LOCAL_FREE_PX} px it followed, which may be "
-            "junctions too faint or small to be taken for contact")
+def with_absorbed(model: AreaModel, absorbed: np.ndarray) -> AreaModel:
+    """A static junction field's `model` with what its free-surface estimate may have
+    absorbed (:attr:`AreaModel.absorbed`, :func:`absorbed_darkness`), and a note that
+    says what the bar's high end then reads (a clause of the static scene's note on faint
+    dark spots where it has one).
+
+    Parameters
+    ----------
+    model : AreaModel
+        A static scene's model (``model.static``) without resolved contact
+        (``model.junction_field``).
+    absorbed : (M, N) ndarray
+        :func:`absorbed_darkness` of its free-surface estimate.
+
+    Returns
+    -------
+    AreaModel
+
+    Raises
+    ------
+    ValueError
+        If `model` is not a static junction field.
+    """
+    if not (model.static and model.junction_field):
+        raise ValueError("absorbed darkness is read only for a static scene without resolved "
+                         f"contact, got static={model.static}, "
+                         f"junction_field={model.junction_field}")
+    high = (f"high end reads the frame against the free-surface estimate without the dark "
+            f"spots narrower than {LOCAL_FREE_PX} px it followed, which may be junctions "
+            "too faint or small to be taken for contact")
     notes = list(model.notes)
     for k, note in enumerate(notes):
         if note.endswith(_STATIC_SPOTS_NOTE):
-            notes[k] = f"{note}, and {high}"
+            notes[k] = f"{note}, and its {high}"
             break
     else:
         notes.append(f"no contact is resolved in this static scene: the error bar's {high}; "
                      "give an empty frame (--reference) to measure the free surface")
-    return replace(model, absorbed=np.asarray(absorbed, np.float32), notes=notes)
+    a = np.asarray(absorbed, np.float32)
+    return replace(model, absorbed=a, absorbed_baseline=_absorbed_baseline(a), notes=notes)
 
 
 def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndarray]
@@ -865,15 +884,12 @@ def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndar
                    field_offset_spread=spread)
 
 
-def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
-    """Unlit pixels within ``model.rim_px`` of the contact `zone` (of the frame, or of
-    ``frame[box]``) in the lit zone's rim band: where contact at the rim may go on unseen,
-    the half-light line being placed to within the band. With a box, counted in the box
-    grown by that width (contact near the box's edge reaches past it)."""
+def _past_rim(touch: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None) -> int:
+    """Unlit pixels within ``model.rim_px`` of `touch`, the contact zone's pixels in the lit
+    zone's rim band (of the frame, or of ``frame[box]``): where contact at the rim may go
+    on unseen, the half-light line being placed to within the band. With a box, counted
+    in the box grown by that width (contact near the box's edge reaches past it)."""
     width = model.rim_px
-    touch = zone & (model.rim if box is None else model.rim[box])
-    if not touch.any():
-        return 0
     beyond = model.beyond
     touch = touch.view(np.uint8)
     if box is not None:  # the box grown by the width, the touching pixels placed in it
@@ -888,16 +904,21 @@ def _past_rim(zone: np.ndarray, model: AreaModel, box: tuple[slice, slice] | Non
     return int(np.count_nonzero(cv2.dilate(touch, disc).view(np.bool_) & beyond))
 
 
-def _in_rim(d: np.ndarray, zone: np.ndarray, model: AreaModel,
-            box: tuple[slice, slice] | None) -> float:
-    """Contact (px) of the `zone` (of the frame, or of ``frame[box]``) in the lit zone's rim
-    band, each pixel its darkness over full contact's (0 to 1): the half-light line placed
-    to within the band, it may lie beyond the true one."""
-    touch = zone & (model.rim if box is None else model.rim[box])
-    if not touch.any():
-        return 0.0
-    share = (d[touch] - model.offset) / model.contact_darkness
-    return float(np.sum(np.clip(share, 0.0, 1.0), dtype=np.float64))
+def _in_rim(touch: np.ndarray, counted: np.ndarray, u: np.ndarray, sum_un: np.ndarray,
+            b_un: float, model: AreaModel) -> float:
+    """What the bar's low end counted (px) of the contact zone's pixels in the lit zone's
+    rim band (`touch`): its resolved pixels it counted whole (`counted`: at or above the
+    low end's threshold), and, outside a static scene (whose low end counts none of it),
+    the unmixed excess of the summed pixels (`sum_un`, read in `u` against `b_un`) over
+    full contact's high end. The half-light line placed to within the band, that contact
+    may lie beyond the true one."""
+    n = float(np.count_nonzero(touch & counted))
+    if not model.static:
+        un = touch & sum_un
+        if un.any():
+            excess = float(np.sum(u[un] - b_un, dtype=np.float64))
+            n += max(excess, 0.0) / max(model.contact_high, 1e-6)
+    return n
 
 
 @dataclass(frozen=True)
@@ -1099,11 +1120,23 @@ def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b:
 
 
 def absorbed_darkness(surface: np.ndarray, valid: np.ndarray) -> np.ndarray:
-    """The share of the light by which a static scene's free-surface estimate `surface`
-    (grey values) lies below its grey closing by the local free surface's disc
-    (:data:`LOCAL_FREE_PX`), on the `valid` pixels (0 elsewhere): the dark spots narrower
-    than the disc it followed, which may be junctions it took for the light (those not
-    found as contact candidates are the image itself there) or the light's own texture.
+    """The share of the light by which a static scene's free-surface estimate lies below
+    its grey closing by the local free surface's disc (:data:`LOCAL_FREE_PX`): the dark
+    spots narrower than the disc it followed, which may be junctions it took for the light
+    (those not found as contact candidates are the image itself there) or the light's own
+    texture; the closing also lifts every pixel to its noise's upper envelope
+    (:func:`with_absorbed` keeps the median lift apart).
+
+    Parameters
+    ----------
+    surface : (M, N) ndarray
+        The estimate, grey values (:attr:`tir_contact.flatfield.Reference.image`).
+    valid : (M, N) ndarray of bool
+        The measured pixels; NaN elsewhere.
+
+    Returns
+    -------
+    (M, N) ndarray of float32
 
     Examples
     --------
@@ -1113,20 +1146,30 @@ def absorbed_darkness(surface: np.ndarray, valid: np.ndarray) -> np.ndarray:
     (0.4, 0.0)
     """
     s = np.asarray(surface, np.float32)
-    closed = np.maximum(disc_close(s, LOCAL_FREE_PX), s)
+    closed = disc_close(s, LOCAL_FREE_PX)  # a closing never lies below the image
     with np.errstate(divide="ignore", invalid="ignore"):
-        a = np.where(valid & (closed > 0), 1.0 - s / np.maximum(closed, 1e-6), 0.0)
-    return a.astype(np.float32)
+        a = np.where(closed > 0, 1.0 - s / np.maximum(closed, 1e-6), 0.0)
+    return np.where(valid, a, np.nan).astype(np.float32)
+
+
+def _absorbed_baseline(absorbed: np.ndarray) -> float:
+    """The median of `absorbed` over the pixels it was measured on (0 where none): the
+    closing's lift over a free pixel's noise and fine texture, the level the followed spots
+    stand above."""
+    a = absorbed[np.isfinite(absorbed)]
+    return float(np.median(a)) if a.size else 0.0
 
 
 def _absorbed_budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> float:
     """A static junction field's darkness budget read against its estimate without the
-    dark spots it may have absorbed (``model.absorbed`` = ``A``): a pixel's darkness
+    dark spots it may have absorbed: with ``A`` = ``model.absorbed`` less its baseline
+    (the closing's lift over the free surface's noise; at least 0), a pixel's darkness
     ``d`` against the estimate is ``1 - (1 - d)(1 - A)`` against that one; summed over the
-    measured pixels less the free surface's mean, over full contact's low end."""
+    measured pixels less the free surface's mean (read against the estimate itself), over
+    full contact's low end."""
     if not np.any(finite):
         return 0.0
-    a = model.absorbed[finite]
+    a = np.maximum(model.absorbed[finite] - np.float32(model.absorbed_baseline), 0.0)
     x = d[finite]
     total = float(np.sum(x + a * (1.0 - x) - model.mean_free, dtype=np.float64))
     return total / max(model.contact_low, 1e-6)
@@ -1296,7 +1339,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     n_un = int(np.count_nonzero(sum_un))
     n_z = int(np.count_nonzero(zone_res)) + n_un
     with np.errstate(invalid="ignore"):
-        res_lo = int(np.count_nonzero(resolved & (d >= t_hi)))
+        counted = resolved & (d >= t_hi)  # the resolved pixels the low end counts
+    res_lo = int(np.count_nonzero(counted))
     # the unresolved part over c's range; both parts' noise
     sd = _zone_sd(model, n_z, n_un)
     area = part_res + excess_un / c
@@ -1324,8 +1368,10 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
     if model.rim is not None:
         # the found edge is the half-light line to within the rim band: contact in the band
         # may go on past it, or lie past the true line
-        high += _past_rim(zone, model, box)
-        low -= _in_rim(d, zone, model, box)
+        touch = zone & (model.rim if box is None else model.rim[box])
+        if touch.any():
+            high += _past_rim(touch, model, box)
+            low -= _in_rim(touch, counted, u, sum_un, b_un, model)
     if whole:  # the whole frame: its darkness budget (module notes)
         budget, sd_g = _budget(d, finite, model)
         # where the free surface reaches past half of full contact, the seeds cannot see
@@ -1344,7 +1390,8 @@ def frame_area(d: np.ndarray, model: AreaModel, box: tuple[slice, slice] | None 
             # a static junction field: read against the estimate without the dark spots
             # it may have followed (junctions it took for the light), over full contact's
             # low end
-            high = max(high, _absorbed_budget(d, finite, model) + BAND_SIGMAS * sd_g)
+            high = max(high, _absorbed_budget(d, finite, model)
+                       + BAND_SIGMAS * sd_g * c / max(model.contact_low, 1e-6))
     area = max(area, 0.0)  # a field's box of noise alone may sum below zero
     low, high = max(min(low, area), 0.0), max(high, area)
     n_res = int(np.count_nonzero(resolved))

@@ -45,6 +45,7 @@ from tir_contact.measure import (
     absorbed_darkness,
     area_model,
     frame_area,
+    with_absorbed,
 )
 from tir_contact.options import AnalysisOptions
 from tir_contact.overlay import draw_tir_overlay
@@ -422,15 +423,17 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     if sigma is None:
         sigma = tref.noise.sigma_darkness(tref.reference.image)
     static = tref.camera == "follows"
-    # a static scene's estimate is the image itself beyond its contact candidates: what it
-    # may have absorbed of junctions too faint or small to be candidates (dark contact)
-    absorbed = (absorbed_darkness(tref.reference.image, tref.reference.valid)
-                if static and contact_is == "dark" else None)
-    return area_model(darkness, sigma, contrast=options.contrast,
-                      min_cluster_px=options.min_area_px,
-                      static=static, zone_sigma=tref.texture_sigma,
-                      zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
-                      bright=contact_is == "bright", optics=optics, absorbed=absorbed)
+    model = area_model(darkness, sigma, contrast=options.contrast,
+                       min_cluster_px=options.min_area_px,
+                       static=static, zone_sigma=tref.texture_sigma,
+                       zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
+                       bright=contact_is == "bright", optics=optics)
+    if static and contact_is == "dark" and model.junction_field:
+        # a static scene's estimate is the image itself beyond its contact candidates: what
+        # it may have absorbed of junctions too faint or small to be candidates
+        model = with_absorbed(model, absorbed_darkness(tref.reference.image,
+                                                       tref.reference.valid))
+    return model
 
 
 def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReference,
