@@ -172,3 +172,24 @@ def test_the_lit_zones_rim_is_not_read_as_the_lights_texture(seed):
     err = fs.image[zone] / gaussian_filter(true, 1.5)[zone] - 1.0
     zone_err = 1.4826 * np.median(np.abs(err - np.median(err)))
     assert fs.texture_sigma < 2.6 * zone_err, (fs.texture_sigma, zone_err)
+
+
+def test_a_zone_too_thin_for_its_inside_reads_the_texture_on_all_of_it():
+    """A lit band 20 px tall leaves no pixel 12 px inside its edge: the texture (3 % rms at
+    2 px here) is read on all of its free pixels, as before the inside rule, not set to 0,
+    which would let every texture spot beside a contact pass the zone's seed level (a pad
+    of the earlier static draws read +6.5 -> +9.7 % that way while the rule was built)."""
+    from tir_contact.reference import _inner
+
+    yy = np.mgrid[:H, :W][0]
+    rng = np.random.default_rng(0)
+    tex = gaussian_filter(rng.normal(0.0, 1.0, (H, W)), 2.0)
+    tex *= 0.03 / tex.std()
+    lit = np.abs(yy - 120) < 10
+    img = (LIGHT * np.where(lit, 1.0, 0.05) * (1.0 + tex)
+           + rng.normal(0.0, NOISE, (H, W))).astype(np.float32)
+    free = np.ones((H, W), bool)
+    assert np.array_equal(_inner(lit, free), lit)  # nothing inside: all of the band
+    thick = np.abs(yy - 120) < 60
+    assert not (_inner(thick, free) & ~(np.abs(yy - 120) < 48)).any()  # 12 px inside
+    assert free_surface(img, lit).texture_sigma > 0.01
