@@ -967,7 +967,8 @@ def test_static_junction_field_the_estimate_follows_is_inside_the_bar(seed):
     model's notes say so).
 
     Truth: the junctions' covered share of each pixel (supersampled 8 x 8)."""
-    from tir_contact.measure import absorbed_darkness, with_absorbed
+    from tir_contact.measure import with_absorbed
+    from tir_contact.reference import absorbed_darkness
 
     d, surface, cov = _static_field(seed, 60, 0.08)
     m = area_model(d, _sigma_map(1.0 / 200.0), static=True,
@@ -990,7 +991,8 @@ def test_static_scene_without_contact_keeps_its_high_end_at_the_noise(seed):
     summed over the frame's 32000 px read 122-124 px of contact; its median over the frame
     is taken out, and the high end reads 40-45 px (7-12 px without the reading): under
     0.2 % of the frame above it."""
-    from tir_contact.measure import absorbed_darkness, with_absorbed
+    from tir_contact.measure import with_absorbed
+    from tir_contact.reference import absorbed_darkness
 
     d, surface, _ = _static_field(seed, 0, 0.0, noise=4.0)
     m = area_model(d, _sigma_map(4.0 / 200.0), static=True)
@@ -1003,7 +1005,8 @@ def test_static_scene_without_contact_keeps_its_high_end_at_the_noise(seed):
 def test_absorbed_reading_needs_a_static_junction_field_and_notes_a_given_contrast():
     """The reading is for a static scene without resolved contact only; with the contrast
     given (no assumed-darkness note to add to) it is a note of its own."""
-    from tir_contact.measure import absorbed_darkness, with_absorbed
+    from tir_contact.measure import with_absorbed
+    from tir_contact.reference import absorbed_darkness
 
     d, surface, _ = _static_field(0, 60, 0.08)
     a = absorbed_darkness(surface.image, np.ones(SHAPE, bool))

@@ -12,8 +12,7 @@ and minima are taken: no rounding). Below :data:`ROWS_FROM_PX` OpenCV is faster 
 
 The border is replicated, as ``cv2.BORDER_REPLICATE`` does. Images are taken as float32
 and must be finite (a NaN spreads through ``numpy.maximum`` where OpenCV skips it); the
-callers (reference.py, and measure.absorbed_darkness on a free-surface estimate) pass
-finite float32 images.
+callers (illumination.py, reference.py) pass finite float32 images.
 """
 
 from __future__ import annotations

@@ -90,7 +90,6 @@ import cv2
 import numpy as np
 from scipy.stats import norm
 
-from tir_contact._morphology import disc_close
 from tir_contact.graded import FreeLevel, graded_contact
 
 __all__ = [
@@ -100,7 +99,6 @@ __all__ = [
     "ZONE_PX",
     "AreaModel",
     "FrameArea",
-    "absorbed_darkness",
     "area_model",
     "correlation_area",
     "frame_area",
@@ -229,15 +227,21 @@ class AreaModel:
         (:func:`_free_tiles`): the pixels summed against ``field_offset`` may lie where it
         differs by this much, which the error bar holds (:func:`frame_area`); 0 where not
         known.
-    absorbed, absorbed_baseline : (M, N) ndarray of float32 or None, float
+    graded : bool
+        The contact is graded: a field of junctions below the pixel that reaches half of
+        full contact only in the dense band at each face's front
+        (:func:`tir_contact.graded.graded_contact`), or nowhere (no contact resolved:
+        under :data:`MIN_FULL_PX` interior pixels); the features then find the elements'
+        runs where the columns hold contact at all (:mod:`tir_contact.graded`).
+    absorbed : (M, N) ndarray of float32 or None
         A static junction field (no contact resolved, the free surface estimated from
         images that show the contact; :func:`with_absorbed`): the share of the light by
         which the estimate lies below its closing by the local free surface's disc at each
-        pixel (:func:`absorbed_darkness`), where it followed dark spots narrower than the
-        disc (junctions or the light's texture), and its median over the measured pixels
-        (the closing's lift over the free surface's own noise, taken out); the error bar's
-        high end reads the frame against the estimate without the spots
-        (:func:`frame_area`). None and 0 elsewhere.
+        pixel (:func:`tir_contact.reference.absorbed_darkness`), where it followed dark
+        spots narrower than the disc (junctions or the light's texture), less its median
+        over the measured pixels (the closing's lift over the free surface's own noise) and
+        at least 0; NaN where not measured. The error bar's high end reads the frame
+        against the estimate without the spots (:func:`frame_area`). None elsewhere.
     """
 
     offset: float
@@ -270,7 +274,6 @@ class AreaModel:
     field_offset: float = math.nan
     field_offset_spread: float = 0.0
     absorbed: np.ndarray | None = field(default=None, repr=False)
-    absorbed_baseline: float = 0.0
 
     @property
     def junction_field(self) -> bool:
@@ -815,7 +818,7 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
 
 def with_absorbed(model: AreaModel, absorbed: np.ndarray) -> AreaModel:
     """A static junction field's `model` with what its free-surface estimate may have
-    absorbed (:attr:`AreaModel.absorbed`, :func:`absorbed_darkness`), and a note that
+    absorbed (:attr:`AreaModel.absorbed`), and a note that
     says what the bar's high end then reads (a clause of the static scene's note on faint
     dark spots where it has one).
 
@@ -825,7 +828,7 @@ def with_absorbed(model: AreaModel, absorbed: np.ndarray) -> AreaModel:
         A static scene's model (``model.static``) without resolved contact
         (``model.junction_field``).
     absorbed : (M, N) ndarray
-        :func:`absorbed_darkness` of its free-surface estimate.
+        :func:`tir_contact.reference.absorbed_darkness` of its free-surface estimate.
 
     Returns
     -------
@@ -852,7 +855,11 @@ def with_absorbed(model: AreaModel, absorbed: np.ndarray) -> AreaModel:
         notes.append(f"no contact is resolved in this static scene: the error bar's {high}; "
                      "give an empty frame (--reference) to measure the free surface")
     a = np.asarray(absorbed, np.float32)
-    return replace(model, absorbed=a, absorbed_baseline=_absorbed_baseline(a), notes=notes)
+    measured = a[np.isfinite(a)]
+    # the closing's lift over a free pixel's noise and fine texture, the level the followed
+    # spots stand above: the median over the measured pixels
+    base = np.float32(np.median(measured)) if measured.size else np.float32(0.0)
+    return replace(model, absorbed=np.maximum(a - base, np.float32(0.0)), notes=notes)
 
 
 def _graded_model(model: AreaModel, samples: list[np.ndarray], few: list[np.ndarray]
@@ -1119,57 +1126,15 @@ def _resolved_area(d: np.ndarray, resolved: np.ndarray, zone_res: np.ndarray, b:
     return area, n_deep + int(np.count_nonzero(d_b >= t_lo))
 
 
-def absorbed_darkness(surface: np.ndarray, valid: np.ndarray) -> np.ndarray:
-    """The share of the light by which a static scene's free-surface estimate lies below
-    its grey closing by the local free surface's disc (:data:`LOCAL_FREE_PX`): the dark
-    spots narrower than the disc it followed, which may be junctions it took for the light
-    (those not found as contact candidates are the image itself there) or the light's own
-    texture; the closing also lifts every pixel to its noise's upper envelope
-    (:func:`with_absorbed` keeps the median lift apart).
-
-    Parameters
-    ----------
-    surface : (M, N) ndarray
-        The estimate, grey values (:attr:`tir_contact.flatfield.Reference.image`).
-    valid : (M, N) ndarray of bool
-        The measured pixels; NaN elsewhere.
-
-    Returns
-    -------
-    (M, N) ndarray of float32
-
-    Examples
-    --------
-    >>> s = np.full((40, 40), 100.0, np.float32); s[20, 20] = 60.0  # a followed spot
-    >>> a = absorbed_darkness(s, np.ones(s.shape, bool))
-    >>> round(float(a[20, 20]), 2), float(a[5, 5])
-    (0.4, 0.0)
-    """
-    s = np.asarray(surface, np.float32)
-    closed = disc_close(s, LOCAL_FREE_PX)  # a closing never lies below the image
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = np.where(closed > 0, 1.0 - s / np.maximum(closed, 1e-6), 0.0)
-    return np.where(valid, a, np.nan).astype(np.float32)
-
-
-def _absorbed_baseline(absorbed: np.ndarray) -> float:
-    """The median of `absorbed` over the pixels it was measured on (0 where none): the
-    closing's lift over a free pixel's noise and fine texture, the level the followed spots
-    stand above."""
-    a = absorbed[np.isfinite(absorbed)]
-    return float(np.median(a)) if a.size else 0.0
-
-
 def _absorbed_budget(d: np.ndarray, finite: np.ndarray, model: AreaModel) -> float:
     """A static junction field's darkness budget read against its estimate without the
-    dark spots it may have absorbed: with ``A`` = ``model.absorbed`` less its baseline
-    (the closing's lift over the free surface's noise; at least 0), a pixel's darkness
+    dark spots it may have absorbed: with ``A`` = ``model.absorbed``, a pixel's darkness
     ``d`` against the estimate is ``1 - (1 - d)(1 - A)`` against that one; summed over the
     measured pixels less the free surface's mean (read against the estimate itself), over
     full contact's low end."""
     if not np.any(finite):
         return 0.0
-    a = np.maximum(model.absorbed[finite] - np.float32(model.absorbed_baseline), 0.0)
+    a = model.absorbed[finite]
     x = d[finite]
     total = float(np.sum(x + a * (1.0 - x) - model.mean_free, dtype=np.float64))
     return total / max(model.contact_low, 1e-6)

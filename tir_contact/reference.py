@@ -58,15 +58,21 @@ import numpy as np
 
 from tir_contact._morphology import disc_close
 from tir_contact._percentile import pixelwise_percentile
-from tir_contact.flatfield import Reference
+from tir_contact.flatfield import Reference, darkness
 from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
-from tir_contact.measure import ASSUMED_FULL_DARKNESS, _free_mean, correlation_area
+from tir_contact.measure import (
+    ASSUMED_FULL_DARKNESS,
+    LOCAL_FREE_PX,
+    _free_mean,
+    correlation_area,
+)
 
 __all__ = [
     "CAMERA_MODES",
     "FreeSurface",
     "NoiseModel",
     "TirReference",
+    "absorbed_darkness",
     "free_surface",
     "measurable",
     "noise_model",
@@ -646,7 +652,7 @@ def _texture(smooth: np.ndarray, free: np.ndarray) -> tuple[float, float]:
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(free & (field > 0), smooth / np.maximum(field, 1e-6) - 1.0, np.nan)
     values = t[np.isfinite(t)]
-    if values.size < 100:  # no light to measure it on (black footage)
+    if values.size < MIN_TEXTURE_PX:  # no light to measure it on (black footage)
         return 0.0, 1.0
     mid = float(np.median(values))
     sigma = float(1.4826 * np.median(np.abs(values - mid)))
@@ -808,6 +814,39 @@ BRIGHT_FLOOR = 0.05
 #: Bright contact: a lit zone of the free surface is taken when its median light is at
 #: least this many times the outside's (and the outside holds light at all).
 BRIGHT_LIT_CONTRAST = 2.0
+
+
+def absorbed_darkness(surface: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """The share of the light by which a static scene's free-surface estimate lies below
+    its grey closing by the local free surface's disc
+    (:data:`tir_contact.measure.LOCAL_FREE_PX`): the estimate's darkness against that
+    closing (:func:`tir_contact.flatfield.darkness`). It holds the dark spots narrower than
+    the disc the estimate followed, which may be junctions it took for the light (those
+    not found as contact candidates are the image itself there) or the light's own
+    texture; the closing also lifts every pixel to its noise's upper envelope
+    (:func:`tir_contact.measure.with_absorbed` takes the median lift out).
+
+    Parameters
+    ----------
+    surface : (M, N) ndarray
+        The estimate, grey values (:attr:`tir_contact.flatfield.Reference.image`).
+    valid : (M, N) ndarray of bool
+        The measured pixels; NaN elsewhere.
+
+    Returns
+    -------
+    (M, N) ndarray of float32
+
+    Examples
+    --------
+    >>> s = np.full((40, 40), 100.0, np.float32); s[20, 20] = 60.0  # a followed spot
+    >>> a = absorbed_darkness(s, np.ones(s.shape, bool))
+    >>> round(float(a[20, 20]), 2), float(a[5, 5])
+    (0.4, 0.0)
+    """
+    s = np.asarray(surface, np.float32)
+    closed = disc_close(s, LOCAL_FREE_PX)  # a closing never lies below the image
+    return darkness(s, Reference(closed, np.asarray(valid, bool), "closing", 1))
 
 
 def lit_zone_of_surface(free: np.ndarray) -> LitZone:

@@ -42,14 +42,13 @@ from tir_contact.measure import (
     ZONE_PX,
     AreaModel,
     FrameArea,
-    absorbed_darkness,
     area_model,
     frame_area,
     with_absorbed,
 )
 from tir_contact.options import AnalysisOptions
 from tir_contact.overlay import draw_tir_overlay
-from tir_contact.reference import TirReference, measurable, tir_reference
+from tir_contact.reference import TirReference, absorbed_darkness, measurable, tir_reference
 from tir_contact.reference_fit import MAX_NOISE_RATIO, ReferenceFit, fit_reference
 from tir_contact.segment import (
     FrameContact,
@@ -135,6 +134,12 @@ class TirView:
                                      optics=optics)
         tref, model = _remeasured(samples, whole, tref, model, threshold, contact_is, options,
                                   sigma, optics)
+        if model.static and model.junction_field and contact_is == "dark":
+            # a static scene's estimate is the image itself beyond its contact candidates:
+            # what it may have absorbed of junctions too faint or small to be candidates,
+            # once for the pixels the model kept
+            model = with_absorbed(model, absorbed_darkness(tref.reference.image,
+                                                           tref.reference.valid))
         # the decision where the two populations separate (tir_contact.measure): half
         # the darkness of full contact, at least the free surface's reach
         threshold, contrast = model.threshold, model.contact_darkness
@@ -422,18 +427,11 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
     darkness = [norm(f) for f in samples]
     if sigma is None:
         sigma = tref.noise.sigma_darkness(tref.reference.image)
-    static = tref.camera == "follows"
-    model = area_model(darkness, sigma, contrast=options.contrast,
-                       min_cluster_px=options.min_area_px,
-                       static=static, zone_sigma=tref.texture_sigma,
-                       zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
-                       bright=contact_is == "bright", optics=optics)
-    if static and contact_is == "dark" and model.junction_field:
-        # a static scene's estimate is the image itself beyond its contact candidates: what
-        # it may have absorbed of junctions too faint or small to be candidates
-        model = with_absorbed(model, absorbed_darkness(tref.reference.image,
-                                                       tref.reference.valid))
-    return model
+    return area_model(darkness, sigma, contrast=options.contrast,
+                      min_cluster_px=options.min_area_px,
+                      static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
+                      zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
+                      bright=contact_is == "bright", optics=optics)
 
 
 def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReference,
