@@ -24,8 +24,10 @@ percentile over frames):
    fit leaves out the hull's long sides (:data:`CHORD_FRACTION`: the chord along a contact
    that hides the rim) and, fitting again, the points off the ellipse (a chord that is not
    straight), while at least half of the seen rim is kept; the ellipse must hold the lit
-   zone (:data:`LIT_OUTSIDE_ELLIPSE`) and be no flatter than a prism's lit ellipse
-   (:data:`MAX_AXIS_RATIO`), else a band's few curved rim points would make one.
+   zone (:data:`LIT_OUTSIDE_ELLIPSE`), or else add only lit pixels (:func:`_adds_lit`:
+   a fit continued far from the seen rim, to where the frame cuts the zone, may run a few
+   px inside it), and be no flatter than a prism's lit ellipse (:data:`MAX_AXIS_RATIO`),
+   else a band's few curved rim points would make one.
 4. The rim is the band of ``rim_px`` (default 1 % of the image's long side) inside the
    zone's edge; contact regions that touch it are flagged, since part of them may lie
    where there is too little light to see them.
@@ -190,7 +192,7 @@ def find_lit_zone(
         # rim across a lit band) cuts it in pieces: the hull of all pieces restores it
         hull = np.zeros_like(lit)
         cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
-        lit = hull | _ellipse_through_rim(lit, hull)
+        lit = hull | _ellipse_through_rim(lit, hull, small)
     lit = lit.astype(np.float32)
     if scale < 1.0:
         lit = cv2.resize(lit, (w, h), interpolation=cv2.INTER_LINEAR)
@@ -207,7 +209,8 @@ def find_lit_zone(
 ELLIPSE_FIT_PX = 0.75
 
 
-def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray) -> np.ndarray:
+def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray,
+                         image: np.ndarray | None = None) -> np.ndarray:
     """The ellipse through the zone's rim, where the rim is an ellipse (uint8 0/1, or zeros).
 
     A contact that reaches the rim hides the rim behind it, and the hull cuts across the
@@ -216,8 +219,10 @@ def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray) -> np.ndarray:
     fitted with an ellipse, and fitted again without the points off it (up to
     :data:`TRIM_ROUNDS` times, while half of them stay); where they lie on it (a lit disc or
     ellipse), the ellipse continues the rim under the contact, if it holds the zone
-    (:data:`LIT_OUTSIDE_ELLIPSE`) and is no flatter than :data:`MAX_AXIS_RATIO`. A band's
-    straight rims fit no ellipse and keep the hull.
+    (:data:`LIT_OUTSIDE_ELLIPSE`) or, given the working `image`, what it adds to the hull
+    is lit (:func:`_adds_lit`; the zone is the union of both, so lit pixels the fit misses
+    stay), and it is no flatter than :data:`MAX_AXIS_RATIO`. A band's straight rims fit no
+    ellipse and keep the hull.
     """
     h, w = lit.shape
     edge = lit & ~cv2.erode(lit, np.ones((3, 3), np.uint8), borderType=cv2.BORDER_REPLICATE)
@@ -257,9 +262,28 @@ def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray) -> np.ndarray:
     # the ellipse continues the rim: the lit zone lies inside it (one fitted to the few
     # rim points a band's straight rims leave cuts the band's ends off)
     grown = cv2.dilate(out, np.ones((5, 5), np.uint8))
-    if np.count_nonzero(lit & ~grown) > LIT_OUTSIDE_ELLIPSE * np.count_nonzero(lit):
+    if (np.count_nonzero(lit & ~grown) > LIT_OUTSIDE_ELLIPSE * np.count_nonzero(lit)
+            and not (image is not None and _adds_lit(image, out, hull))):
         return none
     return out
+
+
+#: Pixels (working image) the continuation must add, and the outside must keep, for the
+#: test of :func:`_adds_lit`.
+MIN_TEST_PX = 50
+
+
+def _adds_lit(image: np.ndarray, ellipse: np.ndarray, hull: np.ndarray) -> bool:
+    """Whether what the ellipse adds to the hull is lit (a contact held over the rim),
+    not the unlit outside (a band's ends cut by an ellipse through its few curved rim
+    points): the added pixels' median grey lies above the 90th percentile of the outside
+    (beyond both, by the shrunk image's smoothing and more, 4 px), i.e. the added region
+    is not drawn from the outside's grey values."""
+    added = (ellipse > 0) & (hull == 0)
+    outside = cv2.dilate(ellipse | hull, np.ones((9, 9), np.uint8)) == 0
+    if np.count_nonzero(added) < MIN_TEST_PX or np.count_nonzero(outside) < MIN_TEST_PX:
+        return False
+    return float(np.median(image[added])) > float(np.percentile(image[outside], 90))
 
 
 #: A side of the zone's hull longer than this share of the hull's perimeter is a chord
