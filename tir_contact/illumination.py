@@ -24,10 +24,11 @@ percentile over frames):
    fit leaves out the hull's long sides (:data:`CHORD_FRACTION`: the chord along a contact
    that hides the rim) and, fitting again, the points off the ellipse (a chord that is not
    straight), while at least half of the seen rim is kept; the ellipse must hold the lit
-   zone (:data:`LIT_OUTSIDE_ELLIPSE`), or else add only lit pixels (:func:`_adds_lit`:
-   a fit continued far from the seen rim, to where the frame cuts the zone, may run a few
-   px inside it), and be no flatter than a prism's lit ellipse (:data:`MAX_AXIS_RATIO`),
-   else a band's few curved rim points would make one.
+   zone (:data:`LIT_OUTSIDE_ELLIPSE`) or else, where it does not (a fit continued far
+   from the seen rim, to where the frame cuts the zone, may run a few px inside it), add a
+   held contact, through whose gaps light shows (:func:`_adds_lit`), and be no flatter
+   than a prism's lit ellipse (:data:`MAX_AXIS_RATIO`), else a band's few curved rim points
+   would make one. The zone is the hull and the ellipse together.
 4. The rim is the band of ``rim_px`` (default 1 % of the image's long side) inside the
    zone's edge; contact regions that touch it are flagged, since part of them may lie
    where there is too little light to see them.
@@ -172,12 +173,8 @@ def find_lit_zone(
     black = min(float(np.percentile(small, 0.5)), 0.1 * bright)
     if not bright > black:
         return whole_frame((h, w))
-    # against the light nearby (a dilation over 15 % of the image), so that vignetting,
-    # which dims a whole region slowly, is not taken for the rim, which dims it steeply
-    r = max(1, round(0.15 * max(small.shape)))
-    nearby = disc_dilate(small, 2 * r + 1)
-    lit = ((small - black > level_fraction * (nearby - black))
-           & (small > black + floor_fraction * (bright - black))).astype(np.uint8)
+    seen = _lit_test(small, black, bright, level_fraction, floor_fraction)
+    lit = seen.copy()
     d = max(3, round(0.03 * max(small.shape)) | 1)
     lit = cv2.morphologyEx(lit, cv2.MORPH_CLOSE,
                            cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)),
@@ -192,7 +189,7 @@ def find_lit_zone(
         # rim across a lit band) cuts it in pieces: the hull of all pieces restores it
         hull = np.zeros_like(lit)
         cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
-        lit = hull | _ellipse_through_rim(lit, hull, small)
+        lit = hull | _ellipse_through_rim(lit, hull, small, seen)
     lit = lit.astype(np.float32)
     if scale < 1.0:
         lit = cv2.resize(lit, (w, h), interpolation=cv2.INTER_LINEAR)
@@ -209,8 +206,21 @@ def find_lit_zone(
 ELLIPSE_FIT_PX = 0.75
 
 
-def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray,
-                         image: np.ndarray | None = None) -> np.ndarray:
+def _lit_test(small: np.ndarray, black: float, bright: float, level_fraction: float = 0.5,
+              floor_fraction: float = 0.25) -> np.ndarray:
+    """Step 3's test of each pixel of the working image (uint8 0/1): brighter than black
+    plus `level_fraction` of the span to the light nearby and than black plus
+    `floor_fraction` of the span to `bright`."""
+    # against the light nearby (a dilation over 15 % of the image), so that vignetting,
+    # which dims a whole region slowly, is not taken for the rim, which dims it steeply
+    r = max(1, round(0.15 * max(small.shape)))
+    nearby = disc_dilate(small, 2 * r + 1)
+    return ((small - black > level_fraction * (nearby - black))
+            & (small > black + floor_fraction * (bright - black))).astype(np.uint8)
+
+
+def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray, image: np.ndarray | None = None,
+                         seen: np.ndarray | None = None) -> np.ndarray:
     """The ellipse through the zone's rim, where the rim is an ellipse (uint8 0/1, or zeros).
 
     A contact that reaches the rim hides the rim behind it, and the hull cuts across the
@@ -219,10 +229,11 @@ def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray,
     fitted with an ellipse, and fitted again without the points off it (up to
     :data:`TRIM_ROUNDS` times, while half of them stay); where they lie on it (a lit disc or
     ellipse), the ellipse continues the rim under the contact, if it holds the zone
-    (:data:`LIT_OUTSIDE_ELLIPSE`) or, given the working `image`, what it adds to the hull
-    is lit (:func:`_adds_lit`; the zone is the union of both, so lit pixels the fit misses
-    stay), and it is no flatter than :data:`MAX_AXIS_RATIO`. A band's straight rims fit no
-    ellipse and keep the hull.
+    (:data:`LIT_OUTSIDE_ELLIPSE`) or, given the working `image` and its lit test `seen`
+    (:func:`_lit_test`), what it adds to the hull is a held contact, through whose gaps
+    light shows (:func:`_adds_lit`; the zone is the union of both, so lit pixels the fit
+    misses stay), and it is no flatter than :data:`MAX_AXIS_RATIO`. A band's straight rims
+    fit no ellipse and keep the hull.
     """
     h, w = lit.shape
     edge = lit & ~cv2.erode(lit, np.ones((3, 3), np.uint8), borderType=cv2.BORDER_REPLICATE)
@@ -263,7 +274,8 @@ def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray,
     # rim points a band's straight rims leave cuts the band's ends off)
     grown = cv2.dilate(out, np.ones((5, 5), np.uint8))
     if (np.count_nonzero(lit & ~grown) > LIT_OUTSIDE_ELLIPSE * np.count_nonzero(lit)
-            and not (image is not None and _adds_lit(image, out, hull))):
+            and not (image is not None and seen is not None
+                     and _adds_lit(image, seen, out, hull))):
         return none
     return out
 
@@ -272,14 +284,30 @@ def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray,
 #: test of :func:`_adds_lit`.
 MIN_TEST_PX = 50
 
+#: Lit pixels (working image) beyond the hull that show light through a held contact's
+#: gaps (:func:`_adds_lit`): a 3 x 3 block, more than a noise pixel leaves after the
+#: median of 5 and the 1.5 px Gaussian of step 1.
+MIN_SEEN_PX = 9
 
-def _adds_lit(image: np.ndarray, ellipse: np.ndarray, hull: np.ndarray) -> bool:
-    """Whether what the ellipse adds to the hull is lit (a contact held over the rim),
-    not the unlit outside (a band's ends cut by an ellipse through its few curved rim
-    points): the added pixels' median grey lies above the 90th percentile of the outside
-    (beyond both, by the shrunk image's smoothing and more, 4 px), i.e. the added region
-    is not drawn from the outside's grey values."""
+
+def _adds_lit(image: np.ndarray, seen: np.ndarray, ellipse: np.ndarray,
+              hull: np.ndarray) -> bool:
+    """Whether what the ellipse adds to the hull is a contact held over the rim, not the
+    unlit outside (a band's ends cut by an ellipse through its few curved rim points) or a
+    rim's half-shadow (a vignetted band's, beyond its straight rim).
+
+    Both must hold:
+
+    * light shows through the contact's gaps: at least :data:`MIN_SEEN_PX` of the added
+      pixels pass the zone's own lit test `seen` (specks too small to be kept as lit
+      regions; a half-shadow or the outside lies below the test everywhere);
+    * the added pixels' median grey lies above the 90th percentile of the outside (beyond
+      both, by the working image's smoothing and more, 4 px): the added region is not
+      drawn from the outside's grey values.
+    """
     added = (ellipse > 0) & (hull == 0)
+    if np.count_nonzero(added & (seen > 0)) < MIN_SEEN_PX:
+        return False
     outside = cv2.dilate(ellipse | hull, np.ones((9, 9), np.uint8)) == 0
     if np.count_nonzero(added) < MIN_TEST_PX or np.count_nonzero(outside) < MIN_TEST_PX:
         return False
