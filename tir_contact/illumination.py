@@ -174,9 +174,8 @@ def find_lit_zone(
     if not bright > black:
         return whole_frame((h, w))
     seen = _lit_test(small, black, bright, level_fraction, floor_fraction)
-    lit = seen.copy()
     d = max(3, round(0.03 * max(small.shape)) | 1)
-    lit = cv2.morphologyEx(lit, cv2.MORPH_CLOSE,
+    lit = cv2.morphologyEx(seen, cv2.MORPH_CLOSE,
                            cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)),
                            borderType=cv2.BORDER_REPLICATE)
     lit = _fill_holes(lit)
@@ -271,7 +270,9 @@ def _ellipse_through_rim(lit: np.ndarray, hull: np.ndarray, image: np.ndarray | 
     out = np.zeros_like(lit)
     cv2.ellipse(out, ((cx, cy), (a, b), angle), 1, thickness=-1)
     # the ellipse continues the rim: the lit zone lies inside it (one fitted to the few
-    # rim points a band's straight rims leave cuts the band's ends off)
+    # rim points a band's straight rims leave cuts the band's ends off), or what it adds
+    # is a held contact (a fit continued to where the frame cuts the zone may run a few px
+    # inside the zone there)
     grown = cv2.dilate(out, np.ones((5, 5), np.uint8))
     if (np.count_nonzero(lit & ~grown) > LIT_OUTSIDE_ELLIPSE * np.count_nonzero(lit)
             and not (image is not None and seen is not None
