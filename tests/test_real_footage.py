@@ -294,11 +294,11 @@ def test_lit_zone_continues_a_rim_that_a_held_contact_hides(shape, edge):
 def _working_lit(name: str) -> tuple[np.ndarray, np.ndarray]:
     """A lit zone from ``tests/data`` as ``find_lit_zone`` sees it before the hull (uint8
     0/1), and its hull."""
+    from tir_contact.illumination import _hull
+
     lit = (cv2.imread(str(Path(__file__).parent / "data" / name), cv2.IMREAD_GRAYSCALE)
            > 0).astype(np.uint8)
-    hull = np.zeros_like(lit)
-    cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
-    return lit, hull
+    return lit, _hull(lit)
 
 
 def test_no_ellipse_along_a_band_whose_ends_vignetting_dims():
@@ -333,16 +333,12 @@ def _working_with_image(name: str) -> tuple[np.ndarray, ...]:
     its hull, the shrunk and smoothed image it was found on, that image's lit test (step
     3, before the closing), and the renderer's lit mask shrunk alike (area mean, at least
     half)."""
-    from tir_contact.illumination import _lit_test
+    from tir_contact.illumination import _hull, _levels, _lit_test
 
     data = np.load(Path(__file__).parent / "data" / name)
     lit = data["lit"]
-    hull = np.zeros_like(lit)
-    cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
     image = data["image"].astype(np.float32)
-    bright = float(np.percentile(image, 99.5))
-    seen = _lit_test(image, min(float(np.percentile(image, 0.5)), 0.1 * bright), bright)
-    return lit, hull, image, seen, data["truth"]
+    return lit, _hull(lit), image, _lit_test(image, *_levels(image)), data["truth"]
 
 
 def test_ellipse_continues_the_rim_a_block_held_over_its_end_hides():

@@ -169,8 +169,7 @@ def find_lit_zone(
     small, scale = shrink(img)
     small = cv2.medianBlur(small, 5)
     small = cv2.GaussianBlur(small, (0, 0), 1.5)
-    bright = float(np.percentile(small, 99.5))
-    black = min(float(np.percentile(small, 0.5)), 0.1 * bright)
+    black, bright = _levels(small)
     if not bright > black:
         return whole_frame((h, w))
     seen = _lit_test(small, black, bright, level_fraction, floor_fraction)
@@ -186,8 +185,7 @@ def find_lit_zone(
     if convex and lit.any():
         # a contact at the rim cuts a notch into the zone, a contact across it (a coin's
         # rim across a lit band) cuts it in pieces: the hull of all pieces restores it
-        hull = np.zeros_like(lit)
-        cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(lit)), 1)
+        hull = _hull(lit)
         lit = hull | _ellipse_through_rim(lit, hull, small, seen)
     lit = lit.astype(np.float32)
     if scale < 1.0:
@@ -203,6 +201,21 @@ def find_lit_zone(
 #: An ellipse fitted to the rim is kept when its points lie within this of it (px, on the
 #: shrunk working image) in the median, and 2.5 times that at the 90th percentile.
 ELLIPSE_FIT_PX = 0.75
+
+
+def _levels(small: np.ndarray) -> tuple[float, float]:
+    """Step 2's black and bright levels of the working image: its 0.5th percentile, at
+    most a tenth of the bright level (a frame lit all over has no black), and its 99.5th
+    percentile."""
+    bright = float(np.percentile(small, 99.5))
+    return min(float(np.percentile(small, 0.5)), 0.1 * bright), bright
+
+
+def _hull(mask: np.ndarray) -> np.ndarray:
+    """The convex hull of a non-empty `mask`'s pixels, filled (uint8 0/1)."""
+    hull = np.zeros(mask.shape, np.uint8)
+    cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(mask.astype(np.uint8))), 1)
+    return hull
 
 
 def _lit_test(small: np.ndarray, black: float, bright: float, level_fraction: float = 0.5,
