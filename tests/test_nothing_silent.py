@@ -158,6 +158,11 @@ def test_footage_without_contact_is_warned_about(render_clip, tmp_path):
     # spot is measured against an assumed full-contact darkness, its bar reaching zero
     assert len(warnings) == 3 and "assumed full-contact darkness" in warnings[0]
     assert (res.frames["contact_area_low_mm2"] == 0).all()
+    # the bar spans both readings: no contact, and a contact over the whole lit zone found
+    meta = json.loads((folder / "meta.json").read_text())
+    zone_mm2 = (res.summary["lit_fraction"] * meta["width_px"] * meta["height_px"]
+                * meta["mm_per_px"] ** 2)
+    assert np.allclose(res.frames["contact_area_high_mm2"], zone_mm2, rtol=1e-6)
 
 
 @pytest.mark.parametrize(("pad_radius_mm", "hint"), [(6.0, True), (1.0, False)])
@@ -183,12 +188,27 @@ def test_static_contact_over_the_lit_zone_is_warned_about(render_clip, tmp_path,
     error = (res.frames["contact_area_mm2"].median()
              / truth[truth.element == -1].contact_area_mm2.median() - 1.0)
     said = [w for w in res.summary["warnings"] if w.startswith("nothing moves")]
+    true_mm2 = truth[truth.element == -1].set_index("frame").contact_area_mm2
+    frames = res.frames.set_index("frame").reindex(true_mm2.index)
+    # the lit zone found (summary.json: its share of the frame)
+    zone_mm2 = res.summary["lit_fraction"] * cam.width_px * cam.height_px * cam.mm_per_px ** 2
     if hint:
         # read as free surface: a few dark specks at most (0.10 of 11.6 mm2 seen)
         assert error < -0.9 and len(said) == 1
         assert "--reference" in said[0] and "--lit-mask" in said[0]
+        # the other reading the warning names, a contact over the whole lit zone found (and
+        # the rim band past its edge, 2 px: the edge's tolerance), is the error bar's high
+        # end: the truth (the pad over the lit disc, 12.0 mm2) lies in the bar in every
+        # frame, where it lay 60 times above its high end (0.19 mm2) before
+        assert "error bar reaches up to the whole lit zone" in said[0]
+        assert (frames.contact_area_high_mm2 >= zone_mm2 - 1e-9).all()
+        assert ((frames.contact_area_low_mm2 <= true_mm2)
+                & (true_mm2 <= frames.contact_area_high_mm2)).all(), (frames, true_mm2)
     else:
         assert abs(error) < 0.05 and said == []
+        # found contact keeps its own bar (well below the lit zone: the pad covers 2.6 % of
+        # the frame, the disc half of it)
+        assert (frames.contact_area_high_mm2 < 0.5 * zone_mm2).all()
 
 
 def test_stale_temporaries_go_and_live_ones_stay(tmp_path):

@@ -173,7 +173,8 @@ class TirView:
 
     def warnings(self, frames: Any) -> list[str]:
         """Contact at the lit zone's rim, where part of it may not be seen; a scene where
-        nothing moves and no contact is resolved, whose contact may fill the lit zone."""
+        nothing moves and no contact is resolved, whose contact may fill the lit zone in the
+        frames that show none (their error bar reaches the whole zone: :class:`TirFrames`)."""
         if not len(frames):
             return []
         out = []
@@ -182,24 +183,19 @@ class TirView:
             out.append(f"contact touches the rim of the lit zone in {at_rim} of "
                        f"{len(frames)} frames: part of it may lie where too little light "
                        "reaches to see it (lit_mask.png; --lit-mask to give the zone)")
-        if self._may_fill_zone():
+        if self.area_model is not None and _may_fill_zone(self.tir, self.area_model):
+            empty = int((frames["block_in_view"] != True).sum())  # noqa: E712 (NaN: none)
+            bar = (f"; in the {empty} of {len(frames)} frames that show no contact the error "
+                   "bar reaches up to the whole lit zone found and its rim band beyond"
+                   if empty else "")
             out.append(
                 "nothing moves and no contact is resolved: a contact that fills the lit "
                 "zone found, or most of it, leaves no free surface at the lit level in view "
                 "and cannot be told from a dimly lit free surface or the unlit outside "
                 f"(lit zone found: {100 * self.tir.lit.fraction:.0f} % of the frame, "
-                "lit_mask.png); if such a contact is there, give an empty frame "
+                f"lit_mask.png{bar}); if such a contact is there, give an empty frame "
                 "(--reference) or the lit zone (--lit-mask)")
         return out
-
-    def _may_fill_zone(self) -> bool:
-        """A static scene (camera ``follows``; an empty frame given with ``--reference``
-        makes it ``fixed``) with no resolved contact in the sampled frames, its lit zone
-        found in the footage: a contact over the whole lit zone shows no plateau of full
-        contact beside free surface either, and its light, a fraction of the free
-        surface's, is read as a dim free surface or as the outside."""
-        return (self.tir.camera == "follows" and self.tir.lit.method != "file"
-                and self.area_model is not None and self.area_model.junction_field)
 
     def images(self) -> dict[str, np.ndarray]:
         """``lit_mask.png``: white where TIR light reaches."""
@@ -249,6 +245,13 @@ class TirFrames:
         # graded contact's faces reach past the half-coverage box: a face's faint back
         # behind its front band, a leaving face's back ahead of the first band in view
         self._widen = graded_back_px(setup.layout) if self._free is not None else 0
+        # a static scene without resolved contact: in a frame that shows none, the lit zone
+        # found may be one contact (TirView.warnings), the error bar's other end; its edge
+        # is the half-light line to within the rim band, which that contact may go on past
+        self._fill_px = 0.0
+        if model is not None and _may_fill_zone(view.tir, model):
+            past = 0 if model.beyond is None else np.count_nonzero(model.beyond)
+            self._fill_px = float(np.count_nonzero(view.tir.lit.mask) + past)
 
     def segment(self, frame: np.ndarray) -> tuple[np.ndarray, FrameContact, tuple | None]:
         """Steps 1 to 3: the darkness (in the box, NaN elsewhere), the contact, and the
@@ -321,7 +324,10 @@ class TirFrames:
         grey values where the dtype allows) and the contact, grown by the zone around
         contact, is read, with the pixels :meth:`segment` tested; otherwise (a static
         scene, or a free surface that reaches past half of full contact) the whole frame,
-        whose darkness budget then counts.
+        whose darkness budget then counts. In a static scene without resolved contact, a
+        frame that shows no contact has the whole lit zone found, and the rim band's width
+        past its edge (the edge's tolerance), as its bar's high end: a contact over all of
+        it reads as a dim free surface (:func:`_may_fill_zone`).
         """
         model = self.view.area_model
         px2 = self.setup.mm_per_px ** 2
@@ -342,9 +348,12 @@ class TirFrames:
                                finite=self.normalise.valid if frame.dtype.kind in "ui" else None)
         else:
             a = frame_area(self.normalise(frame), model)
+        high = a.high_px
+        if self._fill_px and not row["block_in_view"]:
+            high = max(high, self._fill_px)  # the whole lit zone found may be one contact
         row["contact_area_mm2"] = a.area_px * px2
         row["contact_area_low_mm2"] = a.low_px * px2
-        row["contact_area_high_mm2"] = a.high_px * px2
+        row["contact_area_high_mm2"] = high * px2
 
     def _at_rim(self, contact: FrameContact) -> np.ndarray:
         """Which regions (index = label, 0 unused) touch the rim of the lit zone."""
@@ -353,6 +362,17 @@ class TirFrames:
             out[contact.box_labels[self._rim[contact.box]]] = True
             out[0] = False
         return out
+
+
+def _may_fill_zone(tref: TirReference, model: AreaModel) -> bool:
+    """A static scene (camera ``follows``; an empty frame given with ``--reference``
+    makes it ``fixed``) with no resolved contact in the sampled frames, its lit zone found
+    in the footage: a contact over the whole lit zone shows no plateau of full contact
+    beside free surface either, and its light, a fraction of the free surface's, is read
+    as a dim free surface or as the outside: in the frames that show no contact, the error
+    bar's high end is the whole lit zone found (:meth:`TirFrames.extra_columns`), and
+    :meth:`TirView.warnings` says so."""
+    return tref.camera == "follows" and tref.lit.method != "file" and model.junction_field
 
 
 def _union(a: tuple[slice, slice] | None, b: tuple[slice, slice] | None,
