@@ -140,6 +140,11 @@ def test_black_or_white_footage_is_warned_about(tmp_path, value, words):
     assert words in done.stderr and "Traceback" not in done.stderr
 
 
+def _zone_mm2(res, width_px: int, height_px: int, mm_per_px: float) -> float:
+    """The lit zone found, mm2 (summary.json: its share of the frame)."""
+    return res.summary["lit_fraction"] * width_px * height_px * mm_per_px ** 2
+
+
 def test_footage_without_contact_is_warned_about(render_clip, tmp_path):
     # the block passes the view centre 1 s after the clip: every frame is free ice
     folder = render_clip(tmp_path / "free", n_frames=12, center_time_s=1.0)
@@ -160,8 +165,7 @@ def test_footage_without_contact_is_warned_about(render_clip, tmp_path):
     assert (res.frames["contact_area_low_mm2"] == 0).all()
     # the bar spans both readings: no contact, and a contact over the whole lit zone found
     meta = json.loads((folder / "meta.json").read_text())
-    zone_mm2 = (res.summary["lit_fraction"] * meta["width_px"] * meta["height_px"]
-                * meta["mm_per_px"] ** 2)
+    zone_mm2 = _zone_mm2(res, meta["width_px"], meta["height_px"], meta["mm_per_px"])
     assert np.allclose(res.frames["contact_area_high_mm2"], zone_mm2, rtol=1e-6)
 
 
@@ -190,8 +194,7 @@ def test_static_contact_over_the_lit_zone_is_warned_about(render_clip, tmp_path,
     said = [w for w in res.summary["warnings"] if w.startswith("nothing moves")]
     true_mm2 = truth[truth.element == -1].set_index("frame").contact_area_mm2
     frames = res.frames.set_index("frame").reindex(true_mm2.index)
-    # the lit zone found (summary.json: its share of the frame)
-    zone_mm2 = res.summary["lit_fraction"] * cam.width_px * cam.height_px * cam.mm_per_px ** 2
+    zone_mm2 = _zone_mm2(res, cam.width_px, cam.height_px, cam.mm_per_px)
     if hint:
         # read as free surface: a few dark specks at most (0.10 of 11.6 mm2 seen)
         assert error < -0.9 and len(said) == 1

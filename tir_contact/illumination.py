@@ -214,7 +214,7 @@ def _levels(small: np.ndarray) -> tuple[float, float]:
 def _hull(mask: np.ndarray) -> np.ndarray:
     """The convex hull of a non-empty `mask`'s pixels, filled (uint8 0/1)."""
     hull = np.zeros(mask.shape, np.uint8)
-    cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(mask.astype(np.uint8))), 1)
+    cv2.fillConvexPoly(hull, cv2.convexHull(cv2.findNonZero(np.asarray(mask, np.uint8))), 1)
     return hull
 
 
