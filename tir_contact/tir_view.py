@@ -184,7 +184,8 @@ class TirView:
                        f"{len(frames)} frames: part of it may lie where too little light "
                        "reaches to see it (lit_mask.png; --lit-mask to give the zone)")
         if self.area_model is not None and _may_fill_zone(self.tir, self.area_model):
-            empty = int((frames["block_in_view"] != True).sum())  # noqa: E712 (NaN: none)
+            # the frames the bar's fill applies to (TirFrames.extra_columns: the same test)
+            empty = int((~frames["block_in_view"].astype(bool)).sum())
             bar = (f"; in the {empty} of {len(frames)} frames that show no contact the error "
                    "bar reaches up to the whole lit zone found and its rim band beyond"
                    if empty else "")
