@@ -215,6 +215,58 @@ def test_weak_flat_contact_is_full_contact_and_a_partial_spread_is_not():
     assert a.low_px <= 0.97 * true + 5 and a.high_px >= 0.97 * true / 0.85 - 5
 
 
+#: Full contact's darkness from the optics in the tests of a measured free surface (rubber
+#: on ice at 60 deg, :func:`tir_contact.optics.contact_darkness`).
+OPTICS = (0.9779, "rubber on ice at 60 deg")
+
+
+def test_measured_free_surface_reads_partly_covered_interiors_against_the_optics():
+    """With the free surface measured (the rig's empty frame), four resolved clusters whose
+    pixels are each covered 60-95 % (none wholly: darkness 0.9779 times the coverage, noise
+    0.01) read their interiors' level at 0.88 (the upper decile less its noise); that
+    is partial cover, not full contact, and full contact's darkness is the optics' value,
+    with the interiors' reading kept in the range (the bar's high end). Without the measured
+    free surface the level stands (stray light cannot be told from cover there)."""
+    rng = np.random.default_rng(21)
+    d = _noise(rng, 0.01)
+    for r0, c0 in ((20, 20), (20, 120), (100, 20), (100, 120)):
+        d[r0:r0 + 24, c0:c0 + 24] += (OPTICS[0] * rng.uniform(0.6, 0.95, (24, 24))
+                                      ).astype(np.float32)
+    own = area_model([d], _sigma_map(0.01), optics=OPTICS)
+    assert own.contact_source == "measured"
+    # the upper decile of 0.9779 x U(0.6, 0.95) (0.9779 x 0.915 = 0.895) less 1.28 noise
+    # sigmas: 0.882 (the noise widens the decile by under 0.001; 2300 interior pixels)
+    assert own.contact_darkness == pytest.approx(0.882, abs=0.01)
+    m = area_model([d], _sigma_map(0.01), optics=OPTICS, free_measured=True)
+    assert m.contact_source == "optics" and m.contact_darkness == OPTICS[0]
+    assert m.contact_low <= own.contact_darkness and m.contact_high >= OPTICS[0]
+    assert m.threshold == pytest.approx(OPTICS[0] / 2)
+    assert any("optics' value" in n for n in m.notes)
+    assert m.summary()["contact"]["source"] == "optics"
+
+
+@pytest.mark.parametrize("level, taken", [(0.35, False), (0.50, False), (0.55, True)])
+def test_measured_free_surface_keeps_weak_contact_the_optics_decision_would_drop(level,
+                                                                               taken):
+    """A flat contact of 6000 px at darkness 0.35 or 0.50 (contact through a water film,
+    the thesis's wet zone; noise 0.02) with the free surface measured: half of the optics'
+    darkness (0.489) would cut it away (at 0.50, 29 % of its pixels lie below it by their
+    noise), so its own level stands and every pixel counts: 6000 px to 2 % (the edges:
+    noise summed over 320 band pixels). At 0.55 its level clears that decision by 1.28
+    noise sigmas or more (its lower decile does), the optics' value is taken and the area
+    is still 6000 px (0.1 % of the pixels lie below 0.489), the bar reaching the
+    interiors' own reading."""
+    rng = np.random.default_rng(8)
+    d = _noise(rng, 0.02)
+    d[40:100, 50:150] += np.float32(level)
+    m = area_model([d], _sigma_map(0.02), optics=OPTICS, free_measured=True)
+    assert (m.contact_source == "optics") == taken
+    assert m.contact_darkness == (OPTICS[0] if taken else pytest.approx(level, abs=0.01))
+    a = frame_area(d, m)
+    assert a.area_px == pytest.approx(6000, rel=0.02)
+    assert a.low_px <= 6000 <= a.high_px
+
+
 def test_a_field_that_tops_out_at_the_free_surfaces_reach_is_not_a_plateau():
     """A region of junctions below the pixel whose darkness spans the free surface's reach
     (uniform from 1.2 sigma below it to 1.8 sigma above; noise 0.025, reach 4.7 sigma):

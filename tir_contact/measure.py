@@ -56,8 +56,10 @@ their optical contact lay below the seeds' zone.
 pixels at least; taken deeper inside while their median still rises, where the blur has
 left small contacts no pixel at full darkness: :func:`_plateau`) as the level a wholly
 covered pixel reads (their upper decile less its noise, at least their median: rough
-contact's interiors are partly covered, :func:`_full_level`), or given by
-the user, or, when the video shows no resolved contact, assumed:
+contact's interiors are partly covered, :func:`_full_level`; with the free surface
+measured, the optics' value where they read below it but clear half of it, since partial
+cover is then what lowers them: :func:`_optics_level`), or given by the user, or, when the
+video shows no resolved contact, assumed:
 :data:`ASSUMED_FULL_DARKNESS`, the frustrated-TIR contrast of rubber on ice or glass (a
 contact reflects 2-4 % of the light; Fresnel), within :data:`ASSUMED_FULL_RANGE` (stray
 light); the summary says so.
@@ -184,7 +186,7 @@ class AreaModel:
         Median of `seed` over the measured pixels.
     contact_darkness, contact_low, contact_high : float
         ``c`` and its plausible range.
-    contact_source : {"measured", "given", "assumed"}
+    contact_source : {"measured", "given", "assumed", "optics"}
     n_full_px : int
         Resolved interior pixels ``c`` was measured on (a given ``c``: the sampled frames'
         interior pixels at half of it); under :data:`MIN_FULL_PX`, no contact in the
@@ -648,6 +650,42 @@ def _full_level(values: np.ndarray, noise: float, *, bounded: bool = True
     return c, c_lo, c_hi
 
 
+def _optics_level(c: float, c_hi: float, sigma: float,
+                  optics: tuple[float, str] | None, notes: list[str]
+                  ) -> tuple[float, float, str]:
+    """Full contact's darkness where the free surface is measured (the rig's empty frame):
+    ``(c, c_hi, source)`` from the interiors' level `c` and upper end `c_hi`
+    (:func:`_full_level`), `sigma` a free pixel's darkness spread; a note is added to
+    `notes` where the optics' value is taken.
+
+    With the free surface measured, neither its texture nor its light's fall-off lowers the
+    interiors' level; what does is contact covering part of each interior pixel (a rough
+    face's junctions below the pixel, clustered too densely to leave any pixel wholly
+    covered), stray light, or contact that is itself weak (through a water film). Full
+    contact's darkness from the optics (``optics``, else :data:`ASSUMED_FULL_DARKNESS`) is
+    taken where the interiors read below it but their level clears half of it by
+    :data:`PLATEAU_CLEARANCE_SIGMAS` times `sigma` (a flat plateau at that level loses
+    at most a tenth of its pixels to the decision the optics' value sets): the regions
+    resolved as contact stay resolved, and only the share of each pixel unmixed against
+    it changes. Interiors below that are weak contact, whose own level is the measure
+    (the optics' decision would drop them), and are read as they are. The interiors' level
+    stays the low end of the range (``contact_low``, the error bar's high end: stray
+    light). Measured (stop 51, seeds 0, 7 and 29's static physical draws with their empty
+    frame): the interiors at 0.52-0.89 where the optics give 0.978.
+    """
+    c_opt = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
+    if not (c < c_opt and c - PLATEAU_CLEARANCE_SIGMAS * sigma >= c_opt / 2):
+        return c, c_hi, "measured"
+    notes.append(
+        f"full contact's darkness read on the resolved interiors ({c:.3f}) lies below the "
+        f"optics' value ({c_opt:.4g}"
+        + (f", {optics[1]}" if optics is not None else ", assumed")
+        + "): with the free surface measured (--reference) that is contact covering part "
+        "of each pixel, or stray light; the optics' value is taken and the error bar "
+        "reaches up to the interiors' reading; give --contrast if you know the setup's")
+    return c_opt, max(c_hi, c_opt), "optics"
+
+
 def _median_se(v: np.ndarray) -> tuple[float, float]:
     """Median of `v` and its standard error (1.2533 s / sqrt(n), s the robust spread), on an
     even subsample of at most :data:`MAX_FREE_VALUES` values."""
@@ -680,7 +718,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                static: bool = False, zone_sigma: float = 0.0,
                zone_corr_px: float = 1.0,
                rim: tuple[np.ndarray, np.ndarray, int] | None = None,
-               bright: bool = False, optics: tuple[float, str] | None = None) -> AreaModel:
+               bright: bool = False, optics: tuple[float, str] | None = None,
+               free_measured: bool = False) -> AreaModel:
     """The free-surface and contact populations of a video (module notes).
 
     Parameters
@@ -720,6 +759,11 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         resolved, instead of :data:`ASSUMED_FULL_DARKNESS`; its range stays
         :data:`ASSUMED_FULL_RANGE` (stray light and the black level only lower it; the
         rubber's index is rarely known to better than 1.45-1.6).
+    free_measured : bool
+        The free surface is a measured image (the rig's empty frame as ``--reference``):
+        resolved interiors that read below full contact's darkness from the optics (or
+        :data:`ASSUMED_FULL_DARKNESS`) but clear half of it are then read against that
+        value (:func:`_optics_level`).
 
     Returns
     -------
@@ -788,6 +832,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                     f"of the light, or contact covering {c / ASSUMED_FULL_DARKNESS:.0%} of "
                     "each pixel (junctions below the pixel, many to a pixel); the error bar "
                     "reaches down to the second reading; give --contrast if you know which")
+            if free_measured and not bright:
+                c, c_hi, source = _optics_level(c, c_hi, sigma_free, optics, notes)
         else:
             c = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
             c_lo, c_hi = min(ASSUMED_FULL_RANGE[0], c), ASSUMED_FULL_RANGE[1]

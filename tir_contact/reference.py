@@ -908,6 +908,9 @@ class TirReference:
     percentile_excess : float
         A fixed camera's bright percentile: the share by which it lay above the free
         surface's mean, taken out of ``reference`` (:func:`_excess_over_free_mean`); 0 else.
+    free_measured : bool
+        ``reference`` is a measured image of the free surface (the rig's empty frame, a
+        user's ``--reference`` that fits the footage), not an estimate from the footage.
     """
 
     reference: Reference
@@ -918,6 +921,7 @@ class TirReference:
     texture_sigma: float = 0.0
     texture_corr_px: float = 1.0
     percentile_excess: float = 0.0
+    free_measured: bool = False
 
 
 def _median(frames: list[np.ndarray]) -> np.ndarray:

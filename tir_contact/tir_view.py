@@ -452,7 +452,8 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
                       min_cluster_px=options.min_area_px,
                       static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
                       zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
-                      bright=contact_is == "bright", optics=optics)
+                      bright=contact_is == "bright", optics=optics,
+                      free_measured=tref.free_measured)
 
 
 def _remeasured(samples: list[np.ndarray], whole: TirReference, tref: TirReference,
@@ -562,7 +563,7 @@ def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is
                              **kwargs)
         method = (f"file, fitted: gain {fit.gain:.3f}, shift ({fit.shift_px[0]:+.2f}, "
                   f"{fit.shift_px[1]:+.2f}) px")
-        return dataclasses.replace(tref, method=method), fit, []
+        return dataclasses.replace(tref, method=method, free_measured=True), fit, []
     except ValueError as exc:
         raise FootageError(str(exc), options.lit_mask) from exc
 
