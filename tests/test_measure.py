@@ -267,6 +267,30 @@ def test_measured_free_surface_keeps_weak_contact_the_optics_decision_would_drop
     assert a.low_px <= 6000 <= a.high_px
 
 
+def test_measured_free_surface_reads_a_weak_plateau_of_partial_cover_by_its_cover():
+    """A 60 x 100 px region whose pixels are each covered 20-50 % (junctions below the
+    pixel; darkness 0.9779 times the cover, noise 0.01) is a weak plateau at 0.34, under
+    half of the optics' darkness. Without a measured free surface it may be full contact
+    through 65 % stray light and reads 6000 px. With one, its darkness varies between
+    neighbouring pixels 8 times more than the noise lets it (a water film, the test
+    before, varies by the noise alone): it is read as cover against the optics' value,
+    the covered area to 1 % (the noise summed over 6000 px: 0.4 %), the stray-light
+    reading kept in the bar."""
+    rng = np.random.default_rng(0)
+    d = _noise(rng, 0.01)
+    cover = rng.uniform(0.2, 0.5, (60, 100))
+    d[40:100, 50:150] += (OPTICS[0] * cover).astype(np.float32)
+    true = float(cover.sum())
+    own = area_model([d], _sigma_map(0.01), optics=OPTICS)
+    assert own.weak_plateau and own.contact_source == "measured"
+    assert frame_area(d, own).area_px == pytest.approx(6000, rel=0.02)
+    m = area_model([d], _sigma_map(0.01), optics=OPTICS, free_measured=True)
+    assert m.contact_source == "optics" and m.contact_darkness == OPTICS[0]
+    a = frame_area(d, m)
+    assert a.area_px == pytest.approx(true, rel=0.01)
+    assert a.low_px <= true and a.high_px >= 6000
+
+
 def test_a_field_that_tops_out_at_the_free_surfaces_reach_is_not_a_plateau():
     """A region of junctions below the pixel whose darkness spans the free surface's reach
     (uniform from 1.2 sigma below it to 1.8 sigma above; noise 0.025, reach 4.7 sigma):

@@ -85,7 +85,7 @@ without the dark spots narrower than :data:`LOCAL_FREE_PX` it followed
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 
 import cv2
@@ -650,8 +650,30 @@ def _full_level(values: np.ndarray, noise: float, *, bounded: bool = True
     return c, c_lo, c_hi
 
 
+def _weak_plateau(samples: list[np.ndarray], reach: float, sigma: float
+                  ) -> tuple[np.ndarray, float] | None:
+    """Weaker contact than half of full contact's assumed darkness: the interiors of the
+    regions above the free surface's `reach` and the level they were cut at, where their
+    darkness is a plateau (full contact seen with stray light, contact through a water
+    film, or a dense field of junctions below the pixel: :attr:`AreaModel.weak_plateau`),
+    not a spread reaching down to the free surface (:data:`MAX_PLATEAU_SPREAD`: partial
+    contact below the resolution) nor a slice just past the reach
+    (:data:`PLATEAU_CLEARANCE_SIGMAS` of `sigma`, a free pixel's darkness spread); None
+    else."""
+    above = float(np.nextafter(np.float32(reach), np.float32(1)))
+    low = _interiors(samples, above)
+    if low.size < MIN_FULL_PX:
+        return None
+    q10, q50, q90 = np.percentile(low, [10.0, 50.0, 90.0])
+    if (q50 > 0 and (q90 - q10) / q50 <= MAX_PLATEAU_SPREAD
+            and q10 - reach >= PLATEAU_CLEARANCE_SIGMAS * sigma):
+        return low, above
+    return None
+
+
 def _optics_level(c: float, c_hi: float, sigma: float,
-                  optics: tuple[float, str] | None, notes: list[str]
+                  optics: tuple[float, str] | None, notes: list[str],
+                  excess: Callable[[], float] = lambda: 0.0
                   ) -> tuple[float, float, str]:
     """Full contact's darkness where the free surface is measured (the rig's empty frame):
     ``(c, c_hi, source)`` from the interiors' level `c` and upper end `c_hi`
@@ -668,13 +690,20 @@ def _optics_level(c: float, c_hi: float, sigma: float,
     at most a tenth of its pixels to the decision the optics' value sets): the regions
     resolved as contact stay resolved, and only the share of each pixel unmixed against
     it changes. Interiors below that are weak contact, whose own level is the measure
-    (the optics' decision would drop them), and are read as they are. The interiors' level
-    stays the low end of the range (``contact_low``, the error bar's high end: stray
-    light). Measured (stop 51, seeds 0, 7 and 29's static physical draws with their empty
-    frame): the interiors at 0.52-0.89 where the optics give 0.978.
+    (the optics' decision would drop them), unless their darkness varies from pixel to
+    pixel by at least :data:`NEIGHBOUR_EXCESS` times what the noise gives (`excess`,
+    :func:`_neighbour_excess`, computed only then): a smooth weak contact (a water film,
+    stray light) varies between neighbours by its noise alone, contact covering part of
+    each pixel by its cover too (the junctions of neighbouring pixels are not the same).
+    The interiors' level stays the low end of the range (``contact_low``, the error bar's
+    high end: stray light, a film). Measured (stop 51, seeds 0, 7 and 29's static physical
+    draws with their empty frame): the interiors at 0.52-0.89 where the optics give 0.978.
     """
     c_opt = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
-    if not (c < c_opt and c - PLATEAU_CLEARANCE_SIGMAS * sigma >= c_opt / 2):
+    if not c < c_opt:
+        return c, c_hi, "measured"
+    clears = c - PLATEAU_CLEARANCE_SIGMAS * sigma >= c_opt / 2
+    if not (clears or excess() >= NEIGHBOUR_EXCESS):
         return c, c_hi, "measured"
     notes.append(
         f"full contact's darkness read on the resolved interiors ({c:.3f}) lies below the "
@@ -684,6 +713,48 @@ def _optics_level(c: float, c_hi: float, sigma: float,
         "of each pixel, or stray light; the optics' value is taken and the error bar "
         "reaches up to the interiors' reading; give --contrast if you know the setup's")
     return c_opt, max(c_hi, c_opt), "optics"
+
+
+#: Pixel-to-pixel variation of resolved interiors, over the noise's, from which they are
+#: read as contact covering part of each pixel (:func:`_optics_level`): the noise alone
+#: gives at most 1 (the free surface's noise map bounds that of darker contact), a
+#: single-frame empty frame's own noise and 8-bit JPEG up to about 1.3 (a smooth contact
+#: at 0.3-0.4 through a water film and three points through 0-30 % stray light, analysed
+#: with their empty frame: 0.7-1.3); twice the noise leaves that a margin of half.
+NEIGHBOUR_EXCESS = 2.0
+
+
+def _neighbour_excess(samples: list[np.ndarray], level: float, sigma_noise: np.ndarray
+                      ) -> float:
+    """How much more the darkness of the interiors at `level` (:func:`_interiors`) differs
+    between 4-neighbours than the camera's noise `sigma_noise` lets it: the robust spread
+    (1.4826 median absolute deviation) of the differences of neighbouring interior pixels
+    over sqrt(2) times the noise's median over those pixels; 0 where there are fewer than
+    :data:`MIN_FULL_PX` such pixels.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> flat = (0.35 + rng.normal(0, 0.02, (60, 60))).astype(np.float32)
+    >>> cover = (0.978 * rng.uniform(0.2, 0.5, (60, 60))).astype(np.float32)
+    >>> sigma = np.full((60, 60), 0.02, np.float32)
+    >>> [round(_neighbour_excess([d], 0.1, sigma), 1) for d in (flat, cover)]
+    [1.0, 4.6]
+    """
+    diffs, noise = [], []
+    for d in samples:
+        with np.errstate(invalid="ignore"):
+            inside = cv2.erode((d >= level).astype(np.uint8), _CROSS3,
+                               borderType=cv2.BORDER_CONSTANT, borderValue=0).view(np.bool_)
+        diffs.append((d[:, 1:] - d[:, :-1])[inside[:, 1:] & inside[:, :-1]])
+        diffs.append((d[1:, :] - d[:-1, :])[inside[1:, :] & inside[:-1, :]])
+        noise.append(sigma_noise[inside])
+    dif, sig = np.concatenate(diffs), np.concatenate(noise)
+    sig = sig[np.isfinite(sig)]
+    if dif.size < MIN_FULL_PX or sig.size == 0:
+        return 0.0
+    spread = 1.4826 * float(np.median(np.abs(dif - np.median(dif))))
+    return spread / (math.sqrt(2.0) * max(float(np.median(sig)), 1e-9))
 
 
 def _median_se(v: np.ndarray) -> tuple[float, float]:
@@ -807,20 +878,14 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         c, c_lo, c_hi, source = float(contrast), float(contrast), float(contrast), "given"
         n_full = int(_interiors(samples, max(c / 2, reach)).size)
     else:
-        values = _plateau(samples, max(ASSUMED_FULL_DARKNESS / 2, reach))
+        cut = max(ASSUMED_FULL_DARKNESS / 2, reach)
+        values = _plateau(samples, cut)
         if values.size < MIN_FULL_PX and reach < ASSUMED_FULL_DARKNESS / 2 and not static:
-            # weaker contact: resolved regions above the free surface's reach whose
-            # darkness is a plateau (full contact seen with stray light), not a spread
-            # reaching down to the free surface (partial contact below the resolution)
-            # nor a slice just past the reach (PLATEAU_CLEARANCE_SIGMAS);
             # not in a static scene, whose free surface keeps the ice's dust, bubbles and
             # scratches dark (they take up to a third of the light, as a plateau too)
-            low = _interiors(samples, float(np.nextafter(np.float32(reach), np.float32(1))))
-            if low.size >= MIN_FULL_PX:
-                q10, q50, q90 = np.percentile(low, [10.0, 50.0, 90.0])
-                if (q50 > 0 and (q90 - q10) / q50 <= MAX_PLATEAU_SPREAD
-                        and q10 - reach >= PLATEAU_CLEARANCE_SIGMAS * sigma_free):
-                    values, weak = low, True
+            found = _weak_plateau(samples, reach, sigma_free)
+            if found is not None:
+                (values, cut), weak = found, True
         n_full = int(values.size)
         if n_full >= MIN_FULL_PX:
             c, c_lo, c_hi = _full_level(values, noise, bounded=not (weak or bright))
@@ -833,7 +898,8 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
                     "each pixel (junctions below the pixel, many to a pixel); the error bar "
                     "reaches down to the second reading; give --contrast if you know which")
             if free_measured and not bright:
-                c, c_hi, source = _optics_level(c, c_hi, sigma_free, optics, notes)
+                c, c_hi, source = _optics_level(c, c_hi, sigma_free, optics, notes,
+                                                lambda: _neighbour_excess(few, cut, sigma_noise))
         else:
             c = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
             c_lo, c_hi = min(ASSUMED_FULL_RANGE[0], c), ASSUMED_FULL_RANGE[1]
