@@ -301,9 +301,10 @@ def test_static_rough_pad_with_its_empty_frame_reads_its_optical_contact(index, 
     measured instead of estimated from the image. Two static pads read far off without it
     (the short clips' 4 frames, measured against their optical contact): draw 6 59 % low,
     its fading junction field taken for light falling off; draw 11 on bubbly ice 188 %
-    high, its bubbles read as contact. With it: 9.4 % and 0.1 %. Tolerance 12.5 %: a
-    quarter above the p95 of the nine static draws of seed 0 with their empty frames
-    against their optical contact (10.0 %; median 1.2 %)."""
+    high, its bubbles read as contact. With it: 0.3 % and 0.1 % (9.4 % and 0.1 % before
+    partly covered interiors were read against the optics' darkness, stop 51). Tolerance
+    6.25 %: a quarter above the largest p95 against the optical contact of the static
+    draws of seeds 0, 7 and 29 with their empty frames (3.5, 5.0 and 3.6 %)."""
     from synthetic.domain import sample_physical_specs
 
     spec, case = sample_physical_specs(12, seed=0)[index]
@@ -312,4 +313,4 @@ def test_static_rough_pad_with_its_empty_frame_reads_its_optical_contact(index, 
         spec = dataclasses.replace(spec, camera=dataclasses.replace(spec.camera, **flaws))
     row = validate_clip(_short(spec), case, index, reference=True)
     assert row["case"] == "tir rough pad, empty frame"
-    assert abs(row["optical_err_pct"]) <= 12.5, row
+    assert abs(row["optical_err_pct"]) <= 6.25, row
