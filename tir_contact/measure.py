@@ -218,7 +218,9 @@ class AreaModel:
         darkness of full contact (:func:`area_model`): full contact seen through stray
         light, or contact covering the same share of every pixel (many junctions below a
         pixel each), which a single image cannot tell apart; the error bar's low end holds
-        the second reading.
+        the second reading. With the free surface measured, the plateau may be read as
+        that cover (``contact_source`` ``"optics"``: ``c`` is then the optics' value and
+        the plateau's reading lies in the range below it, :func:`_optics_level`).
     field_offset : float
         Mean darkness of the free surface away from any contact (:func:`_free_mean`): the
         level a junction field's box, every pixel of it summed, is read against (its
@@ -693,11 +695,14 @@ def _optics_level(c: float, c_hi: float, sigma: float,
     (the optics' decision would drop them), unless their darkness varies from pixel to
     pixel by at least :data:`NEIGHBOUR_EXCESS` times what the noise gives (`excess`,
     :func:`_neighbour_excess`, computed only then): a smooth weak contact (a water film,
-    stray light) varies between neighbours by its noise alone, contact covering part of
-    each pixel by its cover too (the junctions of neighbouring pixels are not the same).
-    The interiors' level stays the low end of the range (``contact_low``, the error bar's
-    high end: stray light, a film). Measured (stop 51, seeds 0, 7 and 29's static physical
-    draws with their empty frame): the interiors at 0.52-0.89 where the optics give 0.978.
+    stray light) varies from pixel to pixel by its noise alone (and the curvature of its
+    blurred edge), contact covering part of each pixel by its cover too (the junctions of
+    neighbouring pixels are not the same).
+    The range keeps reaching down to the interiors' readings (``contact_low``, their lower
+    decile: the error bar's high end holds stray light, a film). `sigma` is the free
+    surface's spread (noise and texture; with an empty frame, about the noise). Measured
+    (stop 51, seeds 0, 7 and 29's static physical draws with their empty frame): the
+    interiors at 0.52-0.89 where the optics give 0.978.
     """
     c_opt = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
     if not c < c_opt:
@@ -716,21 +721,31 @@ def _optics_level(c: float, c_hi: float, sigma: float,
 
 
 #: Pixel-to-pixel variation of resolved interiors, over the noise's, from which they are
-#: read as contact covering part of each pixel (:func:`_optics_level`): the noise alone
-#: gives at most 1 (the free surface's noise map bounds that of darker contact), a
-#: single-frame empty frame's own noise and 8-bit JPEG up to about 1.3 (a smooth contact
-#: at 0.3-0.4 through a water film and three points through 0-30 % stray light, analysed
-#: with their empty frame: 0.7-1.3); twice the noise leaves that a margin of half.
+#: read as contact covering part of each pixel (:func:`_optics_level`,
+#: :func:`_neighbour_excess`): the noise alone gives at most 1 (the free surface's noise map
+#: bounds that of darker contact); a single-frame empty frame's own noise, 8-bit JPEG and
+#: the curvature of a blurred edge lift a smooth contact up to about 1.55 (analysed with
+#: their empty frame, stop 51: a contact at 0.3-0.4 through a water film 1.26, three points
+#: through 0-30 % stray light 0.70-1.11, a rough pad through 15 % stray light 0.74; smooth
+#: patches of 6-20 px blurred by 2 px at noise 0.005-0.02 0.9-1.55). The weak plateaus of
+#: partly covered physical draws read 1.4-10.4: half of them clear this.
 NEIGHBOUR_EXCESS = 2.0
 
 
 def _neighbour_excess(samples: list[np.ndarray], level: float, sigma_noise: np.ndarray
                       ) -> float:
-    """How much more the darkness of the interiors at `level` (:func:`_interiors`) differs
-    between 4-neighbours than the camera's noise `sigma_noise` lets it: the robust spread
-    (1.4826 median absolute deviation) of the differences of neighbouring interior pixels
-    over sqrt(2) times the noise's median over those pixels; 0 where there are fewer than
-    :data:`MIN_FULL_PX` such pixels.
+    """How much more the darkness of the interiors at `level` (:func:`_interiors`) varies
+    from pixel to pixel than the camera's noise `sigma_noise` lets it: the robust spread
+    (1.4826 median absolute deviation) of the second differences along rows and columns
+    (``d[i-1] - 2 d[i] + d[i+1]``, three interior pixels in a line) over sqrt(6) times the
+    noise's median over the interiors; 0 where there are fewer than :data:`MIN_FULL_PX`
+    such differences.
+
+    Second differences, not first: a smooth darkness that slopes (the lens blur's edge of
+    a contact a few pixels wide, a pressure grading) moves first differences by its slope
+    and second ones only by its curvature. Smooth patches of 6-12 px at darkness 0.3-0.48,
+    blurred by 2 px, noise 0.005-0.02: first differences 2.1-8.7 times the noise's, second
+    ones 0.9-1.6 times.
 
     Examples
     --------
@@ -739,22 +754,24 @@ def _neighbour_excess(samples: list[np.ndarray], level: float, sigma_noise: np.n
     >>> cover = (0.978 * rng.uniform(0.2, 0.5, (60, 60))).astype(np.float32)
     >>> sigma = np.full((60, 60), 0.02, np.float32)
     >>> [round(_neighbour_excess([d], 0.1, sigma), 1) for d in (flat, cover)]
-    [1.0, 4.6]
+    [1.0, 4.7]
     """
     diffs, noise = [], []
     for d in samples:
         with np.errstate(invalid="ignore"):
             inside = cv2.erode((d >= level).astype(np.uint8), _CROSS3,
                                borderType=cv2.BORDER_CONSTANT, borderValue=0).view(np.bool_)
-        diffs.append((d[:, 1:] - d[:, :-1])[inside[:, 1:] & inside[:, :-1]])
-        diffs.append((d[1:, :] - d[:-1, :])[inside[1:, :] & inside[:-1, :]])
+        rows = inside[:, 2:] & inside[:, 1:-1] & inside[:, :-2]
+        cols = inside[2:, :] & inside[1:-1, :] & inside[:-2, :]
+        diffs.append((d[:, 2:] - 2 * d[:, 1:-1] + d[:, :-2])[rows])
+        diffs.append((d[2:, :] - 2 * d[1:-1, :] + d[:-2, :])[cols])
         noise.append(sigma_noise[inside])
     dif, sig = np.concatenate(diffs), np.concatenate(noise)
     sig = sig[np.isfinite(sig)]
     if dif.size < MIN_FULL_PX or sig.size == 0:
         return 0.0
     spread = 1.4826 * float(np.median(np.abs(dif - np.median(dif))))
-    return spread / (math.sqrt(2.0) * max(float(np.median(sig)), 1e-9))
+    return spread / (math.sqrt(6.0) * max(float(np.median(sig)), 1e-9))
 
 
 def _median_se(v: np.ndarray) -> tuple[float, float]:
@@ -890,16 +907,16 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
         if n_full >= MIN_FULL_PX:
             c, c_lo, c_hi = _full_level(values, noise, bounded=not (weak or bright))
             source = "measured"
-            if weak:
+            if free_measured and not bright:
+                c, c_hi, source = _optics_level(c, c_hi, sigma_free, optics, notes,
+                                                lambda: _neighbour_excess(few, cut, sigma_noise))
+            if weak and source == "measured":
                 notes.append(
                     f"full contact's darkness is read from a weak plateau ({c:.3f}): full "
                     f"contact seen through stray light of {1 - c / ASSUMED_FULL_DARKNESS:.0%} "
                     f"of the light, or contact covering {c / ASSUMED_FULL_DARKNESS:.0%} of "
                     "each pixel (junctions below the pixel, many to a pixel); the error bar "
                     "reaches down to the second reading; give --contrast if you know which")
-            if free_measured and not bright:
-                c, c_hi, source = _optics_level(c, c_hi, sigma_free, optics, notes,
-                                                lambda: _neighbour_excess(few, cut, sigma_noise))
         else:
             c = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
             c_lo, c_hi = min(ASSUMED_FULL_RANGE[0], c), ASSUMED_FULL_RANGE[1]
