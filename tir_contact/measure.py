@@ -483,21 +483,29 @@ def _interiors(samples: list[np.ndarray], level: float) -> np.ndarray:
     return next(_interior_levels(samples, level))
 
 
+def _erode(mask: np.ndarray) -> np.ndarray:
+    """`mask` (uint8) less its pixels with a 3 x 3 neighbour outside it (or the border)."""
+    return cv2.erode(mask, _CROSS3, borderType=cv2.BORDER_CONSTANT, borderValue=0)
+
+
+def _interior_mask(d: np.ndarray, level: float) -> np.ndarray:
+    """The pixels of `d` whose 3 x 3 neighbourhood all reaches `level` (uint8; NaN does
+    not reach it)."""
+    with np.errstate(invalid="ignore"):
+        return _erode((d >= level).astype(np.uint8))
+
+
 def _interior_levels(samples: list[np.ndarray], level: float) -> Iterator[np.ndarray]:
     """Darkness of the interiors of the regions above `level`, ever deeper: the pixels 1,
     2, 3, ... px (chessboard) inside them, until none is left."""
-    masks = []
-    for d in samples:
-        with np.errstate(invalid="ignore"):
-            masks.append((d >= level).astype(np.uint8))
+    masks = [_interior_mask(d, level) for d in samples]
     while True:
-        masks = [cv2.erode(m, _CROSS3, borderType=cv2.BORDER_CONSTANT, borderValue=0)
-                 for m in masks]
         full = [d[m.view(np.bool_)] for d, m in zip(samples, masks, strict=True)]
         values = np.concatenate(full) if full else np.zeros(0, np.float32)
         yield values
         if values.size == 0:
             return
+        masks = [_erode(m) for m in masks]
 
 
 def _plateau(samples: list[np.ndarray], level: float) -> np.ndarray:
@@ -675,8 +683,7 @@ def _weak_plateau(samples: list[np.ndarray], reach: float, sigma: float
 
 def _optics_level(c: float, c_hi: float, sigma: float,
                   optics: tuple[float, str] | None, notes: list[str],
-                  excess: Callable[[], float] = lambda: 0.0
-                  ) -> tuple[float, float, str]:
+                  excess: Callable[[], float]) -> tuple[float, float, str]:
     """Full contact's darkness where the free surface is measured (the rig's empty frame):
     ``(c, c_hi, source)`` from the interiors' level `c` and upper end `c_hi`
     (:func:`_full_level`), `sigma` a free pixel's darkness spread; a note is added to
@@ -705,10 +712,8 @@ def _optics_level(c: float, c_hi: float, sigma: float,
     interiors at 0.52-0.89 where the optics give 0.978.
     """
     c_opt = optics[0] if optics is not None else ASSUMED_FULL_DARKNESS
-    if not c < c_opt:
-        return c, c_hi, "measured"
     clears = c - PLATEAU_CLEARANCE_SIGMAS * sigma >= c_opt / 2
-    if not (clears or excess() >= NEIGHBOUR_EXCESS):
+    if not c < c_opt or not (clears or excess() >= NEIGHBOUR_EXCESS):
         return c, c_hi, "measured"
     notes.append(
         f"full contact's darkness read on the resolved interiors ({c:.3f}) lies below the "
@@ -758,9 +763,7 @@ def _neighbour_excess(samples: list[np.ndarray], level: float, sigma_noise: np.n
     """
     diffs, noise = [], []
     for d in samples:
-        with np.errstate(invalid="ignore"):
-            inside = cv2.erode((d >= level).astype(np.uint8), _CROSS3,
-                               borderType=cv2.BORDER_CONSTANT, borderValue=0).view(np.bool_)
+        inside = _interior_mask(d, level).view(np.bool_)
         rows = inside[:, 2:] & inside[:, 1:-1] & inside[:, :-2]
         cols = inside[2:, :] & inside[1:-1, :] & inside[:-2, :]
         diffs.append((d[:, 2:] - 2 * d[:, 1:-1] + d[:, :-2])[rows])
