@@ -12,11 +12,13 @@ import numpy as np
 import pytest
 
 from tir_contact._morphology import (
+    MASK_ROWS_FROM_PX,
     ROWS_FROM_PX,
     disc_close,
     disc_dilate,
     disc_erode,
     disc_kernel,
+    mask_dilate,
 )
 
 
@@ -38,6 +40,17 @@ def test_disc_morphology_equals_opencv(shape, size_px):
     assert np.array_equal(disc_erode(img, size_px), cv2.erode(img, k, borderType=rep))
     assert np.array_equal(disc_close(img, size_px),
                           cv2.morphologyEx(img, cv2.MORPH_CLOSE, k, borderType=rep))
+
+
+@pytest.mark.parametrize("shape", [(64, 90), (120, 25)])
+@pytest.mark.parametrize("size_px", [1, 13, MASK_ROWS_FROM_PX, 61, 101])
+@pytest.mark.parametrize("fill", [0.0, 0.002, 0.05, 1.0])
+def test_mask_dilation_equals_opencv(shape, size_px, fill):
+    rng = np.random.default_rng(size_px)
+    m = rng.random(shape) < fill
+    m[shape[0] // 2, 0] = fill > 0  # a set pixel on the border (the reach cut there)
+    want = cv2.dilate(m.astype(np.uint8), disc_kernel(size_px)).astype(bool)
+    assert np.array_equal(mask_dilate(m, size_px), want)
 
 
 def test_even_or_empty_disc_is_refused():

@@ -13,6 +13,9 @@ and minima are taken: no rounding). Below :data:`ROWS_FROM_PX` OpenCV is faster 
 The border is replicated, as ``cv2.BORDER_REPLICATE`` does. Images are taken as float32
 and must be finite (a NaN spreads through ``numpy.maximum`` where OpenCV skips it); the
 callers (illumination.py, reference.py) pass finite float32 images.
+
+:func:`mask_dilate` is the binary dilation by the same disc, from the rows' distances to
+their nearest set pixel (the rings fitted around contacts in reference.py).
 """
 
 from __future__ import annotations
@@ -20,12 +23,24 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-__all__ = ["ROWS_FROM_PX", "disc_close", "disc_dilate", "disc_erode", "disc_kernel"]
+__all__ = [
+    "MASK_ROWS_FROM_PX",
+    "ROWS_FROM_PX",
+    "disc_close",
+    "disc_dilate",
+    "disc_erode",
+    "disc_kernel",
+    "mask_dilate",
+]
 
 #: Disc diameter (px) from which the run decomposition is used (measured on a 256 x 200
 #: float image, one core: equal time at about 25 px; 1.2x faster at 31 px, 4x at 101 px,
 #: 5x at 201 px).
 ROWS_FROM_PX = 25
+#: Disc diameter (px) from which :func:`mask_dilate` uses its row distances (a 250 x 250
+#: mask with a 130 x 110 block, one core: OpenCV 5x faster at 13 px, about equal at
+#: 21-41 px, 1.7x slower at 61 px, 2.8x at 81 px).
+MASK_ROWS_FROM_PX = 41
 
 
 def disc_kernel(size_px: int) -> np.ndarray:
@@ -107,3 +122,43 @@ def disc_erode(image: np.ndarray, size_px: int) -> np.ndarray:
 def disc_close(image: np.ndarray, size_px: int) -> np.ndarray:
     """Grey closing (dilation, then erosion) of a float image by a disc of `size_px`."""
     return disc_erode(disc_dilate(image, size_px), size_px)
+
+
+def mask_dilate(mask: np.ndarray, size_px: int) -> np.ndarray:
+    """Binary dilation of `mask` by the disc :func:`disc_kernel` of `size_px`, as
+    ``cv2.dilate`` gives it (nothing outside the image is set).
+
+    OpenCV's binary dilation by a non-rectangular kernel also costs about the kernel's
+    area per pixel (a 61 px disc on a 250 x 250 box: 3.0 ms, here 1.8 ms). Here each
+    row's distance to its nearest set pixel is found once (two running extremes of the
+    set pixels' columns); a pixel is in the dilation where some kernel row's offset row lies within
+    that row's half width, about the disc's diameter passes in all. Below
+    :data:`MASK_ROWS_FROM_PX` OpenCV is faster and is used.
+
+    Examples
+    --------
+    >>> m = np.random.default_rng(0).random((40, 50)) > 0.98
+    >>> ref = cv2.dilate(m.astype(np.uint8), disc_kernel(61)).astype(bool)
+    >>> bool(np.array_equal(mask_dilate(m, 61), ref))
+    True
+    """
+    m = np.asarray(mask, bool)
+    if m.ndim != 2:
+        raise ValueError(f"mask must be 2-D, got shape {m.shape}")
+    kernel = disc_kernel(size_px)
+    if size_px < MASK_ROWS_FROM_PX:
+        return cv2.dilate(m.astype(np.uint8), kernel).astype(bool)
+    rows = _half_widths(kernel)
+    h, w = m.shape
+    far = np.int32(h + w + size_px + 2)  # farther than any half width
+    col = np.arange(w, dtype=np.int32)
+    left = np.maximum.accumulate(np.where(m, col, -far), axis=1)
+    right = np.minimum.accumulate(np.where(m, col, 2 * far)[:, ::-1], axis=1)[:, ::-1]
+    r = size_px // 2
+    dist = np.full((h + 2 * r, w), far, np.int32)
+    dist[r:r + h] = np.minimum(col - left, right - col)
+    reach = np.full((h, w), far, np.int32)  # the least (row distance - half width)
+    for dy, hw in rows:
+        np.minimum(reach, dist[r + dy: r + dy + h] - hw, out=reach)
+    return reach <= 0
+

@@ -56,7 +56,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from tir_contact._morphology import disc_close
+from tir_contact._morphology import disc_close, mask_dilate
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference, darkness
 from tir_contact.illumination import LitZone, _fill_holes, find_lit_zone, shrink, whole_frame
@@ -272,8 +272,7 @@ def _soft_cores(out: np.ndarray, soft: np.ndarray, d: np.ndarray, depth: np.ndar
 
 def _within(mask: np.ndarray, px: int) -> np.ndarray:
     """The pixels within `px` of `mask` (a dilation by an elliptic disc of 2 px + 1)."""
-    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * px + 1,) * 2)
-    return cv2.dilate(mask.astype(np.uint8), disc).astype(bool)
+    return mask_dilate(mask, 2 * px + 1)
 
 
 def _against_own_light(lab: np.ndarray, n: int, region: np.ndarray, d: np.ndarray
@@ -677,7 +676,6 @@ def _fit_over_contacts(surface: np.ndarray, smooth: np.ndarray, margin: np.ndarr
     if n <= 1:
         return
     ring_px = max(15, round(widest / 2))
-    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ring_px + 1,) * 2)
     order = np.argsort(stats[1:, cv2.CC_STAT_AREA])[::-1][:MAX_FITTED] + 1
     h, w = surface.shape
     for k in order:
@@ -685,8 +683,7 @@ def _fit_over_contacts(surface: np.ndarray, smooth: np.ndarray, margin: np.ndarr
         r0, r1 = max(0, y0 - ring_px), min(h, y0 + bh + ring_px)
         c0, c1 = max(0, x0 - ring_px), min(w, x0 + bw + ring_px)
         inside = labels[r0:r1, c0:c1] == k
-        ring = (cv2.dilate(inside.astype(np.uint8), kernel).astype(bool) & ~near[r0:r1, c0:c1]
-                & lit[r0:r1, c0:c1])
+        ring = mask_dilate(inside, 2 * ring_px + 1) & ~near[r0:r1, c0:c1] & lit[r0:r1, c0:c1]
         if ring.sum() < 30:
             continue
         yy, xx = np.nonzero(ring)
