@@ -20,6 +20,8 @@ their nearest set pixel (the rings fitted around contacts in reference.py).
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import cv2
 import numpy as np
 
@@ -66,15 +68,21 @@ def _half_widths(kernel: np.ndarray) -> list[tuple[int, int]]:
     return sorted(rows, key=lambda r: r[1])
 
 
+@lru_cache(maxsize=64)
+def _disc_rows(size_px: int) -> tuple[tuple[int, int], ...]:
+    """:func:`_half_widths` of the disc of `size_px`, worked out once per size (the
+    ring fit dilates by the same disc around every contact)."""
+    return tuple(_half_widths(disc_kernel(size_px)))
+
+
 def _extreme(image: np.ndarray, size_px: int, op: np.ufunc) -> np.ndarray:
     """``op``-reduction (``np.maximum``: dilation, ``np.minimum``: erosion) over the disc."""
     img = np.asarray(image, np.float32)
     if img.ndim != 2:
         raise ValueError(f"image must be 2-D, got shape {img.shape}")
-    kernel = disc_kernel(size_px)
     if size_px < ROWS_FROM_PX:
         fn = cv2.dilate if op is np.maximum else cv2.erode
-        return fn(img, kernel, borderType=cv2.BORDER_REPLICATE)
+        return fn(img, disc_kernel(size_px), borderType=cv2.BORDER_REPLICATE)
     r = size_px // 2
     h = img.shape[0]
     # running extreme over [x - hw, x + hw] of the rows padded by the disc's radius; the
@@ -84,7 +92,7 @@ def _extreme(image: np.ndarray, size_px: int, op: np.ufunc) -> np.ndarray:
     tmp = np.empty_like(run)
     out: np.ndarray | None = None
     hw = 0
-    for dy, want in _half_widths(kernel):
+    for dy, want in _disc_rows(size_px):
         while hw < want:  # one step wider on both sides
             op(run[:, :-1], run[:, 1:], out=tmp[:, :-1])
             tmp[:, -1] = run[:, -1]
@@ -131,8 +139,8 @@ def mask_dilate(mask: np.ndarray, size_px: int) -> np.ndarray:
     OpenCV's binary dilation by a non-rectangular kernel also costs about the kernel's
     area per pixel (a 61 px disc on a 250 x 250 box: 3.0 ms, here 1.8 ms). Here each
     row's distance to its nearest set pixel is found once (two running extremes of the
-    set pixels' columns); a pixel is in the dilation where some kernel row's offset row lies within
-    that row's half width, about the disc's diameter passes in all. Below
+    set pixels' columns); a pixel is in the dilation where some kernel row's offset row
+    lies within that row's half width, about the disc's diameter passes in all. Below
     :data:`MASK_ROWS_FROM_PX` OpenCV is faster and is used.
 
     Examples
@@ -145,10 +153,8 @@ def mask_dilate(mask: np.ndarray, size_px: int) -> np.ndarray:
     m = np.asarray(mask, bool)
     if m.ndim != 2:
         raise ValueError(f"mask must be 2-D, got shape {m.shape}")
-    kernel = disc_kernel(size_px)
     if size_px < MASK_ROWS_FROM_PX:
-        return cv2.dilate(m.astype(np.uint8), kernel).astype(bool)
-    rows = _half_widths(kernel)
+        return cv2.dilate(m.astype(np.uint8), disc_kernel(size_px)).astype(bool)
     h, w = m.shape
     far = np.int32(h + w + size_px + 2)  # farther than any half width
     col = np.arange(w, dtype=np.int32)
@@ -158,7 +164,7 @@ def mask_dilate(mask: np.ndarray, size_px: int) -> np.ndarray:
     dist = np.full((h + 2 * r, w), far, np.int32)
     dist[r:r + h] = np.minimum(col - left, right - col)
     reach = np.full((h, w), far, np.int32)  # the least (row distance - half width)
-    for dy, hw in rows:
+    for dy, hw in _disc_rows(size_px):
         np.minimum(reach, dist[r + dy: r + dy + h] - hw, out=reach)
     return reach <= 0
 
