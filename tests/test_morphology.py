@@ -29,8 +29,9 @@ def _image(shape: tuple[int, int], seed: int) -> np.ndarray:
     return img
 
 
-# shapes narrower than the disc too (the border is then most of the reach)
-@pytest.mark.parametrize("shape", [(64, 90), (37, 120), (120, 25)])
+# shapes narrower than the disc too (the border is then most of the reach), down to one
+# and two columns (the widening step reads its neighbours at both ends)
+@pytest.mark.parametrize("shape", [(64, 90), (37, 120), (120, 25), (40, 2), (40, 1)])
 @pytest.mark.parametrize("size_px", [3, ROWS_FROM_PX, 57, 101])
 def test_disc_morphology_equals_opencv(shape, size_px):
     img = _image(shape, size_px)

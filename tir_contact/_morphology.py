@@ -93,11 +93,8 @@ def _extreme(image: np.ndarray, size_px: int, op: np.ufunc) -> np.ndarray:
     out: np.ndarray | None = None
     hw = 0
     for dy, want in _disc_rows(size_px):
-        while hw < want:  # one step wider on both sides
-            op(run[:, :-1], run[:, 1:], out=tmp[:, :-1])
-            tmp[:, -1] = run[:, -1]
-            op(tmp[:, 1:], tmp[:, :-1], out=run[:, 1:])
-            run[:, 0] = tmp[:, 0]
+        while hw < want:
+            run, tmp = _wider(run, tmp, op, hw), run
             hw += 1
         rows = run[r + dy: r + dy + h]
         if out is None:
@@ -106,6 +103,27 @@ def _extreme(image: np.ndarray, size_px: int, op: np.ufunc) -> np.ndarray:
             op(out, rows, out=out)
     assert out is not None  # a disc has a middle row
     return out
+
+
+def _wider(run: np.ndarray, spare: np.ndarray, op: np.ufunc, hw: int) -> np.ndarray:
+    """The running extreme over ``[x - hw - 1, x + hw + 1]`` from `run`, the one over
+    ``[x - hw, x + hw]`` (each row's window cut at its ends), written into `spare`.
+
+    From half width 1 on, the windows at ``x - 1`` and ``x + 1`` overlap and together
+    span the wider one, so one pass of `op` gives it; at the ends the one window inside
+    holds all the cut window does. The first step (from the pixels themselves) takes two.
+    """
+    if run.shape[1] == 1:
+        spare[:] = run
+    elif hw == 0:
+        op(run[:, :-1], run[:, 1:], out=spare[:, :-1])
+        spare[:, -1] = run[:, -1]
+        op(spare[:, 1:], run[:, :-1], out=spare[:, 1:])
+    else:
+        op(run[:, :-2], run[:, 2:], out=spare[:, 1:-1])
+        spare[:, 0] = run[:, 1]
+        spare[:, -1] = run[:, -2]
+    return spare
 
 
 def disc_dilate(image: np.ndarray, size_px: int) -> np.ndarray:
