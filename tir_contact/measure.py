@@ -137,7 +137,12 @@ PLATEAU_CLEARANCE_SIGMAS = float(norm.ppf(0.9))
 FALSE_SEEDS_PER_FRAME = 0.05
 #: Sampled frames the free surface's statistics are taken from, at most.
 MAX_FREE_FRAMES = 8
-#: Free-surface values the statistics are taken from, at most (an even subsample).
+#: Free-surface values the statistics are taken from, at most (an even subsample). The
+#: subsamples are sorted before their median and percentiles are taken: numpy's values are
+#: those of the sorted multiset whatever the order, so they are the same to the bit, and
+#: numpy 2's vectorised sort plus the partitions of an ordered array take a third to a
+#: half of the partitions of an unordered one (2 x 10^5 float32 values: 1.3 ms against 3.8
+#: for three quartiles).
 MAX_FREE_VALUES = 200_000
 #: Side of the blocks whose means give the free surface's correlation area, px.
 CORR_BLOCK_PX = 8
@@ -352,7 +357,7 @@ def _free_statistics(samples: list[np.ndarray], sigma_noise: np.ndarray,
         return 0.0, 0.0, 0.0, int(values.size), 0.0, 0.0
     n_values = int(values.size)
     # an even subsample: a percentile of 2 x 10^5 values is known to 0.3 % of the spread
-    values = values[::max(1, n_values // MAX_FREE_VALUES)]
+    values = np.sort(values[::max(1, n_values // MAX_FREE_VALUES)])  # MAX_FREE_VALUES
     b = float(np.median(values))
     # the 16th percentile lies one sigma below the median of a normal population
     spread = max(b - float(np.percentile(values, 100 * norm.cdf(-1.0))), 0.0)
@@ -657,7 +662,7 @@ def _full_level(values: np.ndarray, noise: float, *, bounded: bool = True
     # an even subsample, as for the free surface's statistics (a block's interiors over
     # the sampled frames reach 10^6 values; the deciles of 2 x 10^5 are known to 0.1 % of
     # the population)
-    values = values[::max(1, values.size // MAX_FREE_VALUES)]
+    values = np.sort(values[::max(1, values.size // MAX_FREE_VALUES)])  # MAX_FREE_VALUES
     c = float(np.median(values))
     c_lo, c_hi = (float(v) for v in np.percentile(values, [10.0, 100 * FULL_QUANTILE]))
     if bounded:
@@ -785,7 +790,7 @@ def _neighbour_excess(samples: list[np.ndarray], level: float, sigma_noise: np.n
 def _median_se(v: np.ndarray) -> tuple[float, float]:
     """Median of `v` and its standard error (1.2533 s / sqrt(n), s the robust spread), on an
     even subsample of at most :data:`MAX_FREE_VALUES` values."""
-    v = v[::max(1, v.size // MAX_FREE_VALUES)]
+    v = np.sort(v[::max(1, v.size // MAX_FREE_VALUES)])  # sorted: MAX_FREE_VALUES
     q25, q50, q75 = np.percentile(v, [25.0, 50.0, 75.0])
     return float(q50), 1.2533 * float(q75 - q25) / 1.349 / math.sqrt(v.size)
 
