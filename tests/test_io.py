@@ -558,10 +558,17 @@ def test_meta_missing_required_key(tmp_path, key, pattern):
 
 
 def test_meta_missing_file_says_where(tmp_path):
+    # every missing key at once, each with its option (not one per run)
     with pytest.raises(
-        FootageError, match=r"no meta\.json beside the footage gives 'fps': add it to .*meta\.json"
+        FootageError,
+        match=r"no meta\.json beside the footage gives 'fps', 'mm_per_px', 'sliding_direction':"
+              r" add them to .*meta\.json or pass --fps, --mm-per-px, --sliding-direction "
+              r"\(the footage header gives no frame rate\)",
     ):
         load_meta(tmp_path)
+    with pytest.raises(FootageError, match=r"gives 'sliding_direction': add it to .* or pass "
+                                           r"--sliding-direction$"):
+        load_meta(tmp_path, overrides={"fps": 100.0, "mm_per_px": 0.1})
 
 
 def test_meta_header_rate_used_and_disagreement_logged(tmp_path, caplog):

@@ -377,18 +377,22 @@ def load_meta(
     for key, value in DEFAULTS.items():
         data.setdefault(key, value)
 
-    for key in required:
-        if _get_dotted(data, key) is not None:
-            continue
-        how = f"pass {option_flag(key)}"
-        if key == "fps":
-            how += " (the footage header gives no frame rate)"
-        if meta_path is not None:
-            message = f"{meta_path} has no '{key}': add it to {meta_path.name} or {how}"
-        else:
-            message = (
-                f"{path}: no {META_FILENAME} beside the footage gives '{key}': "
-                f"add it to {_meta_target(path)} or {how}"
-            )
-        raise FootageError(message, meta_path or path)
+    missing = [key for key in required if _get_dotted(data, key) is None]
+    if missing:
+        raise FootageError(_missing_message(path, meta_path, missing), meta_path or path)
     return data
+
+
+def _missing_message(path: Path, meta_path: Path | None, missing: list[str]) -> str:
+    """One line naming every required key that neither the metadata file nor the options
+    give, and how to give each (all at once: a user should not find them one run at a
+    time)."""
+    keys = ", ".join(f"'{k}'" for k in missing)
+    how = "pass " + ", ".join(option_flag(k) for k in missing)
+    if "fps" in missing:
+        how += " (the footage header gives no frame rate)"
+    it = "it" if len(missing) == 1 else "them"
+    if meta_path is not None:
+        return f"{meta_path} has no {keys}: add {it} to {meta_path.name} or {how}"
+    return (f"{path}: no {META_FILENAME} beside the footage gives {keys}: "
+            f"add {it} to {_meta_target(path)} or {how}")
