@@ -398,6 +398,24 @@ def test_video_lossy_within_tolerance(tmp_path, fourcc, ext):
     assert np.abs(got.astype(int) - luma(frames[5]).astype(int)).mean() < 4
 
 
+def test_video_cut_short_lists_its_lost_frames(tmp_path):
+    """An AVI cut at half its bytes: the frames its header claims past the last one that
+    decodes are lost (the analysis then marks the video partial), the rest read exactly."""
+    frames = make_frames(20)
+    whole = tmp_path / "whole.avi"
+    write_video(whole, frames, "FFV1")
+    data = whole.read_bytes()
+    cut = tmp_path / "cut.avi"
+    cut.write_bytes(data[: len(data) // 2])
+    with open_footage(cut) as reader:
+        n = len(reader)
+        assert 1 <= n < 20
+        assert reader.lost_frames == tuple(range(n, 20))
+        assert_array_equal(reader.get_frame(n - 1), frames[n - 1])  # FFV1: exact
+    with open_footage(whole) as reader:
+        assert reader.lost_frames == ()
+
+
 def test_video_with_zero_frames(tmp_path):
     path = tmp_path / "empty.avi"
     writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"FFV1"), 25.0, (32, 24), False)

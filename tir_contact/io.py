@@ -714,7 +714,9 @@ class VideoFileReader(_StoredFormat):
     Sequential reading (iteration, or ``get_frame(i)`` right after ``i - 1``) decodes the
     next frame; other indices seek with ``CAP_PROP_POS_FRAMES``. The frame count in the
     container header is verified when opening: by reading the last frame, and by counting
-    the frames when that fails or more frames follow. A video without frames is an error.
+    the frames when that fails or more frames follow; frames the header claims past the
+    last one that decodes (a file cut short) are listed in :attr:`lost_frames`. A video
+    without frames is an error.
     Frames are 8-bit; colour (OpenCV decodes to BGR) is converted to grey.
     """
 
@@ -751,6 +753,8 @@ class VideoFileReader(_StoredFormat):
         self._frame_rate = float(fps) if fps and np.isfinite(fps) and fps > 0 else None
         claimed = int(cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
         self._length = self._verified_count(claimed)
+        if self._length < claimed:  # cut short: the frames past the last decodable are lost
+            self._lost_frames = tuple(range(self._length, claimed))
         if self._length != claimed:
             logger.warning("%s: header says %d frames, %d can be read", file, claimed, self._length)
 
