@@ -2330,8 +2330,8 @@ def render_footage(
                 _write_rows(fh, table, columns)
                 bar.update(1)
     finally:
-        sink.close()
         bar.close()
+        sink.close()
     extra: dict[str, Any] = {}
     if clip.physical is not None:
         # the share of each pixel in true contact (gap 0), the same in every frame

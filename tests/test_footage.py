@@ -479,6 +479,31 @@ def test_bad_camera_values_raise_naming_the_field(field, value):
         CameraSettings(**{field: value})
 
 
+def test_avi_above_the_containers_rate_keeps_every_frame(tmp_path, caplog):
+    """OpenCV's FFmpeg backend drops and garbles frames of an AVI above 1000 frames/s (13 of
+    60 kept at 4000 before): a 4000 frames/s clip of 40 frames reads back whole and exact,
+    its header at 1000 frames/s, ``meta.json`` keeping the true rate, and the analysis's
+    metadata takes 4000 without a warning that the two differ."""
+    from tir_contact.io import open_footage
+    from tir_contact.meta import load_meta
+
+    spec = FootageSpec(**{**SMALL, "n_frames": 40},
+                       camera=CameraSettings(fps=4000.0, width_px=160, height_px=64))
+    out = render_footage(spec, tmp_path / "avi", fmt="avi", progress=False)
+    meta = json.loads((out / "meta.json").read_text())
+    assert meta["fps"] == 4000.0 and meta["container_fps"] == 1000.0
+    expected = [img for _, img, _ in iter_frames(spec)]
+    with open_footage(out / meta["video_file"]) as reader:
+        assert len(reader) == 40 and reader.lost_frames == ()
+        assert reader.frame_rate == pytest.approx(1000.0)
+        for k in (0, 13, 39):
+            np.testing.assert_array_equal(reader.get_frame(k), expected[k])  # FFV1: lossless
+        with caplog.at_level("WARNING"):
+            data = load_meta(out / meta["video_file"], frame_rate=reader.frame_rate)
+    assert data["fps"] == 4000.0
+    assert not [r for r in caplog.records if "header" in r.getMessage()]
+
+
 def test_bad_render_options_raise(tmp_path):
     with pytest.raises(ValueError, match="fmt"):
         render_footage(FootageSpec(**SMALL), tmp_path, fmt="mp4")

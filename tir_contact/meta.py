@@ -62,6 +62,9 @@ def _fields(*fields: Field) -> dict[str, Field]:
 META_FIELDS: dict[str, Field] = _fields(
     Field("view", "choice", "camera view: TIR contact image or side view", choices=("tir", "side")),
     Field("fps", "number", "frame rate in Hz", unit="Hz", low=0, low_open=True),
+    Field("container_fps", "number", "frame rate the video container's header states, where "
+          "it cannot hold fps (an AVI written through FFmpeg holds at most 1000 frames/s)",
+          unit="Hz", low=0, low_open=True),
     Field("mm_per_px", "number", "image scale in mm per pixel", unit="mm/px", low=0, low_open=True),
     Field(
         "sliding_direction",
@@ -340,7 +343,8 @@ def load_meta(
     -----
     Precedence per key: `overrides`, then ``meta.json``, then `frame_rate` (``fps`` only), then
     :data:`DEFAULTS`. A header frame rate that differs from ``meta.json`` is logged as a
-    warning and the file's value is used.
+    warning and the file's value is used (no warning where the file's ``container_fps``
+    states the header's rate).
     """
     path = Path(path_or_folder)
     meta_path = find_meta(path)
@@ -366,7 +370,10 @@ def load_meta(
         if "fps" not in data:
             data["fps"] = float(frame_rate)
         elif file_fps is not None and data["fps"] == file_fps:
-            if not math.isclose(file_fps, frame_rate, rel_tol=1e-6):
+            # a header the file itself says cannot hold the rate (container_fps) is no news
+            header = data.get("container_fps")
+            known = header is not None and math.isclose(header, frame_rate, rel_tol=1e-6)
+            if not known and not math.isclose(file_fps, frame_rate, rel_tol=1e-6):
                 logger.warning(
                     "%s gives fps %g, the footage header %g Hz: using %g",
                     meta_path,
