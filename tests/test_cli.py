@@ -85,6 +85,27 @@ def test_bad_options_exit_2_without_traceback(argv, capsys):
     assert "Traceback" not in err
 
 
+@pytest.mark.parametrize(("option", "value", "message"), [
+    ("--mm-per-px", "0.1mm", "option --mm-per-px: 'mm_per_px' must be a number > 0, got '0.1mm'"),
+    ("--sliding-direction", "leftward", "option --sliding-direction: 'sliding_direction' must be"),
+    ("--fps", "4kHz", "option --fps: 'fps' must be a number > 0, got '4kHz'"),
+    ("--lit-mask", "no_mask.png", "argument --lit-mask: no_mask.png: no such file"),
+    ("--reference", "no_reference.png", "argument --reference: no_reference.png: no such file"),
+])
+def test_analyze_option_that_cannot_be_used_is_a_usage_error(option, value, message, tmp_path,
+                                                               capsys, monkeypatch):
+    """A metadata or input option the analysis cannot use is the same for every video: exit
+    code 2 before any video is read, the option named, no output folder (before, each video
+    failed with it, exit code 1, and the batch's folder and report were written)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "clip").mkdir()
+    out = tmp_path / "out"
+    assert main(["analyze", "clip", "--out", str(out), option, value]) == 2
+    err = capsys.readouterr().err
+    assert message in err.splitlines()[-1] and "Traceback" not in err
+    assert not out.exists()
+
+
 @pytest.mark.parametrize("name", sorted(WITH_OUT))
 def test_output_under_a_file_is_one_line(name, tmp_path, capsys):
     blocker = tmp_path / "a_file"

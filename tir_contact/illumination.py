@@ -379,6 +379,8 @@ def lit_zone_from_file(path: str | Path, shape: tuple[int, int]) -> LitZone:
         The file cannot be read or its size differs from the frames'.
     """
     path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: the lit-mask image does not exist")
     image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
     if image is None:
         raise ValueError(f"{path}: cannot read the lit-mask image")

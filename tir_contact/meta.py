@@ -43,6 +43,7 @@ __all__ = [
     "META_FIELDS",
     "META_FILENAME",
     "REQUIRED_KEYS",
+    "check_overrides",
     "clip_footage",
     "find_meta",
     "load_meta",
@@ -302,6 +303,50 @@ def _get_dotted(data: Mapping[str, Any], key: str) -> Any:
     return node
 
 
+def check_overrides(overrides: Mapping[str, Any] | None) -> dict[str, Any]:
+    """Command-line metadata values, parsed and checked before any footage is read.
+
+    Parameters
+    ----------
+    overrides : mapping, optional
+        Values by dotted key, as for :func:`load_meta`; ``None`` values are left out.
+
+    Returns
+    -------
+    dict
+        The values of the known keys coerced (numbers from text, choices in lower case),
+        unknown keys as given.
+
+    Raises
+    ------
+    FootageError
+        One line naming the option and what it expects: a usage error, the same for every
+        video (``tir-contact analyze`` stops with exit code 2 before the batch).
+
+    Examples
+    --------
+    >>> check_overrides({"mm_per_px": "0.05", "fps": None})
+    {'mm_per_px': 0.05}
+    >>> check_overrides({"mm_per_px": "0.1mm"})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    tir_contact._readers.FootageError: option --mm-per-px: ... got '0.1mm' (str)
+    """
+    checked: dict[str, Any] = {}
+    for key, value in (overrides or {}).items():
+        if value is None:
+            continue
+        field = META_FIELDS.get(key)
+        where = f"option {option_flag(key)}:"
+        if field is not None:
+            value = _check(value, field, where, from_text=True)
+            if field.kind == "object":
+                value = copy.deepcopy(value)
+                _check_tree(value, where, prefix=key + ".")
+        checked[key] = value
+    return checked
+
+
 def load_meta(
     path_or_folder: str | os.PathLike[str],
     overrides: Mapping[str, Any] | None = None,
@@ -354,17 +399,8 @@ def load_meta(
         _check_tree(data, f"{meta_path}:")
     file_fps = data.get("fps")
 
-    for key, value in (overrides or {}).items():
-        if value is None:
-            continue
-        field = META_FIELDS.get(key)
-        where = f"option {option_flag(key)}:"
-        if field is not None:
-            value = _check(value, field, where, from_text=True)
-            if field.kind == "object":
-                value = copy.deepcopy(value)
-                _check_tree(value, where, prefix=key + ".")
-        _set_dotted(data, key, value, where)
+    for key, value in check_overrides(overrides).items():
+        _set_dotted(data, key, value, f"option {option_flag(key)}:")
 
     if frame_rate is not None and frame_rate > 0:
         if "fps" not in data:

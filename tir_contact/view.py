@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Protocol
 
 import cv2
@@ -135,6 +136,8 @@ def fully_in_view(front_mm: float, setup: Any, margin_mm: float = 0.5) -> bool:
 def read_reference_file(path: str, shape: tuple[int, int],
                         min_relative: float = 0.2) -> Reference:
     """A user's reference image (``--reference``), grey, of the footage's size."""
+    if not Path(path).is_file():
+        raise FootageError(f"{path}: the reference image does not exist", path)
     image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
     if image is None:
         raise FootageError(f"{path}: cannot read the reference image", path)

@@ -12,6 +12,7 @@ __all__ = [
     "UsageError",
     "check_output_folder",
     "finite_number",
+    "input_file",
     "non_negative_number",
     "output_file",
     "output_folder",
@@ -83,6 +84,23 @@ def positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}")
     return value
+
+
+def input_file(text: str) -> Path:
+    """argparse type of an input file option (``--reference IMAGE``): an existing file.
+
+    Examples
+    --------
+    >>> input_file("/nonexistent/empty.png")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: /nonexistent/empty.png: no such file
+    """
+    path = Path(text)
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(
+            f"{path}: {'is a folder, expected a file' if path.is_dir() else 'no such file'}")
+    return path
 
 
 def check_output_folder(path: str | Path) -> Path:

@@ -13,8 +13,8 @@ import argparse
 import logging
 from pathlib import Path
 
-from tir_contact.commands._types import output_folder, positive_int, positive_number
-from tir_contact.meta import META_FIELDS, option_flag
+from tir_contact.commands._types import input_file, output_folder, positive_int, positive_number
+from tir_contact.meta import META_FIELDS, check_overrides, option_flag
 
 logger = logging.getLogger(__name__)
 
@@ -23,7 +23,8 @@ __all__ = ["DESCRIPTION", "add_arguments", "run"]
 DESCRIPTION = (
     "Analyse footage (frame folders, TIFF stacks, videos, Photron MRAW, Phantom CINE) "
     "with its meta.json. Writes OUT/<video>/frames.csv, elements.csv, regions.csv, "
-    "summary.json, plots and overlays. Exit code 1 when any video failed."
+    "summary.json, plots and overlays. Exit code 1 when any video failed or is partial, "
+    "2 for options that cannot be used."
 )
 
 
@@ -46,9 +47,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="skip videos whose results are complete and current")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     g = p.add_argument_group("analysis")
-    g.add_argument("--reference", type=Path, default=None, metavar="IMAGE",
+    g.add_argument("--reference", type=input_file, default=None, metavar="IMAGE",
                    help="free-surface image (no block); default: built from the footage")
-    g.add_argument("--lit-mask", type=Path, default=None, metavar="IMAGE",
+    g.add_argument("--lit-mask", type=input_file, default=None, metavar="IMAGE",
                    help="image of the frame's size, non-zero where TIR light reaches "
                         "(default: found from the footage; lit_mask.png shows it)")
     g.add_argument("--camera", choices=("auto", "fixed", "follows"), default="auto",
@@ -86,11 +87,12 @@ def run(args: argparse.Namespace) -> int:
     from tir_contact.analyze import AnalysisOptions
     from tir_contact.batch import analyze_batch, find_footage
 
-    overrides = {
+    # a metadata option that cannot be used is a usage error (exit 2), found before any
+    # video is read, not one failure per video
+    overrides = check_overrides({
         key: getattr(args, "meta__" + key.replace(".", "__"))
         for key in _meta_option_keys()
-        if getattr(args, "meta__" + key.replace(".", "__"), None) is not None
-    }
+    })
     options = AnalysisOptions(
         reference=str(args.reference) if args.reference else None,
         lit_mask=str(args.lit_mask) if args.lit_mask else None,
