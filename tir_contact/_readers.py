@@ -208,7 +208,8 @@ def _decode_tiff_bytes(data: bytes, path: Path) -> np.ndarray:
             if n_pages > 1:
                 raise FootageError(
                     f"{path}: TIFF holds {n_pages} pages, a frame folder needs one image per "
-                    "file: open the TIFF itself as a multi-page stack",
+                    "file: open the TIFF itself as a multi-page stack (or its folder with "
+                    "--recursive: each stack a video)",
                     path,
                 )
             page = tif.pages.first

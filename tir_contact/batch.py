@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
+import tifffile
 
 from tir_common.atomic import atomic_write, write_json
 from tir_common.progress import progress_bar, show_progress
@@ -40,7 +41,7 @@ from tir_contact._readers import FootageError, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
-from tir_contact.prepare import _images_in, footage_fingerprint, resolve_footage
+from tir_contact.prepare import IMAGE_SUFFIXES, _images_in, footage_fingerprint, resolve_footage
 from tir_contact.report import write_report
 
 logger = logging.getLogger(__name__)
@@ -122,23 +123,38 @@ def _resolve(path: Path) -> Footage:
     return Footage(inner, name)
 
 
+def _holds_stacks(folder: Path) -> bool:
+    """True when the first image file of `folder` (by name) is a multi-page TIFF: the
+    folder then holds stacks, each a video, not one frame per file."""
+    try:
+        first = min((q for q in folder.iterdir() if q.is_file() and not q.name.startswith(".")
+                     and q.suffix.lower() in IMAGE_SUFFIXES), default=None)
+        if first is None or first.suffix.lower() not in (".tif", ".tiff"):
+            return False
+        with tifffile.TiffFile(first) as tif:
+            return len(tif.pages) > 1
+    except Exception:  # unreadable: the folder's reader reports it
+        return False
+
+
 def _walk(root: Path) -> list[Footage]:
     found: list[Footage] = []
     for folder, subdirs, files in os.walk(root):
         here = Path(folder)
+        name = here.name or here.resolve().name  # "." names the current folder
         subdirs[:] = sorted(d for d in subdirs if not d.startswith("."))
         inner = clip_footage(here)
         if inner is not None and _images_in(here) == 0:
-            found.append(Footage(inner, here.name))
+            found.append(Footage(inner, name))
             subdirs[:] = [d for d in subdirs if here / d != inner]
             files = [f for f in files if here / f != inner]
-        elif _images_in(here) > 0:
-            found.append(Footage(here, here.name))
+        elif _images_in(here) > 0 and not _holds_stacks(here):
+            found.append(Footage(here, name))  # its sub-folders are walked still
             continue
         elif (here / META_FILENAME).is_file() and not any(
             Path(f).suffix.lower() in FOOTAGE_FILE_SUFFIXES for f in files
         ):
-            found.append(Footage(here, here.name))  # metadata without footage: reported
+            found.append(Footage(here, name))  # metadata without footage: reported
         for f in sorted(files):
             p = here / f
             if f.startswith(".") or p.suffix.lower() not in FOOTAGE_FILE_SUFFIXES:
@@ -147,6 +163,13 @@ def _walk(root: Path) -> list[Footage]:
                 continue  # the .mraw beside it is the footage
             found.append(Footage(p, p.stem))
     return found
+
+
+def _has_subfolder(folder: Path) -> bool:
+    try:
+        return any(q.is_dir() and not q.name.startswith(".") for q in folder.iterdir())
+    except OSError:
+        return False
 
 
 def _unique_names(items: list[Footage]) -> list[Footage]:
@@ -195,7 +218,12 @@ def find_footage(
         p = Path(raw)
         if not p.exists():
             raise FootageError(f"{p}: does not exist", p)
-        if p.is_dir() and recursive and _images_in(p) == 0 and clip_footage(p) is None:
+        # walked: a tree that is no footage itself, a folder of stacks, and a frame folder
+        # with sub-folders (a stray image beside clip folders must not hide them)
+        images = p.is_dir() and recursive and _images_in(p) > 0
+        if p.is_dir() and recursive and (
+                (not images and clip_footage(p) is None)
+                or (images and (_holds_stacks(p) or _has_subfolder(p)))):
             found = _walk(p)
             if not found:
                 raise FootageError(f"{p}: no footage found in the tree", p)

@@ -1,0 +1,57 @@
+"""Which videos ``analyze --recursive`` finds in a tree (:func:`tir_contact.batch.find_footage`):
+a folder of multi-page TIFF stacks is one video per stack, not one frame folder, and a stray
+image beside clip folders does not hide them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+import tifffile
+
+from tir_contact.batch import find_footage
+
+
+def _stack(path: Path, pages: int) -> None:
+    tifffile.imwrite(path, np.zeros((pages, 8, 12), np.uint8), photometric="minisblack")
+
+
+def _frames(folder: Path, n: int) -> None:
+    folder.mkdir(parents=True)
+    for k in range(n):
+        cv2.imwrite(str(folder / f"f{k:03d}.png"), np.full((8, 12), k, np.uint8))
+
+
+def _found(root: Path, **kw) -> set[tuple[str, str]]:
+    return {(f.path.relative_to(root).as_posix(), f.name)
+            for f in find_footage([root], **kw)}
+
+
+def test_a_folder_of_stacks_is_one_video_per_stack(tmp_path):
+    stacks = tmp_path / "stacks"
+    stacks.mkdir()
+    for name in ("run1", "run2"):
+        _stack(stacks / f"{name}.tif", 3)
+    assert _found(stacks, recursive=True) == {("run1.tif", "run1"), ("run2.tif", "run2")}
+    # inside a tree too
+    assert _found(tmp_path, recursive=True) == {("stacks/run1.tif", "run1"),
+                                                ("stacks/run2.tif", "run2")}
+    # single-page TIFF frames stay one frame folder
+    single = tmp_path / "single"
+    single.mkdir()
+    for k in range(3):
+        _stack(single / f"f{k}.tif", 1)
+    assert _found(single, recursive=True) == {(".", "single")}
+
+
+def test_a_stray_image_beside_clip_folders_does_not_hide_them(tmp_path):
+    root = tmp_path / "mixed"
+    _frames(root / "good", 3)
+    _frames(root / "other", 2)
+    cv2.imwrite(str(root / "stray.png"), np.zeros((8, 12), np.uint8))
+    # the stray image is a (one-frame) video of its own, and the clips are found
+    assert _found(root, recursive=True) == {(".", "mixed"), ("good", "good"),
+                                            ("other", "other")}
+    # without --recursive the folder given is one video
+    assert _found(root) == {(".", "mixed")}
