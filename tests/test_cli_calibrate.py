@@ -212,6 +212,14 @@ def test_calibrate_then_simulate(run_cli, tmp_path, capsys):
     assert lever["lever_arm_mm"].iloc[-1] == pytest.approx(1.9, abs=0.05)  # Fig. 5.12 a
     for png in ("mu_v.png", "step_response.png", "lever_arm.png"):
         assert (sim / png).stat().st_size > 1000
+    # a file without the element (no side-view footage): what is left out is said
+    bare = tmp_path / "bare.json"
+    bare.write_text(json.dumps({k: v for k, v in params.items()
+                                if k not in ("element", "lever_arm")}))
+    assert run_cli(["simulate", "--params", bare, "--out", tmp_path / "sim2"]) == 0
+    said = capsys.readouterr().out
+    assert "no step_response" in said and "'element' section" in said
+    assert "no lever_arm" in said and not (tmp_path / "sim2" / "step_response.csv").exists()
 
 
 def test_calibrate_characteristic_only_writes_a_law_with_intervals(run_cli, tmp_path, capsys):

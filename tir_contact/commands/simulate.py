@@ -78,4 +78,10 @@ def run(args: argparse.Namespace) -> int:
     )
     written = result.write(args.out, plots=not args.no_plots)
     print(f"simulated {args.params}: wrote {', '.join(written)} to {Path(args.out)}")
+    # what the file cannot give, said rather than left out silently
+    if result.step_response is None:
+        print(f"  no step_response: {args.params} has no 'element' section (calibrate "
+              "identifies the element from side-view footage)")
+    if result.lever_arm is None:
+        print(f"  no lever_arm: {args.params} has no 'lever_arm' section")
     return 0
