@@ -554,9 +554,14 @@ def test_meta_without_file_uses_overrides_header_and_defaults(tmp_path):
         "view": "tir",
         "contact_is": "dark",
     }
-    write_meta(tmp_path, {"mm_per_px": 0.5}, name="run.avi.meta.json")
     write_meta(tmp_path, {"mm_per_px": 0.9})
-    assert load_meta(video, {"sliding_direction": "left", "fps": 1})["mm_per_px"] == 0.5
+    given = {"sliding_direction": "left", "fps": 1}
+    assert load_meta(video, given)["mm_per_px"] == 0.9  # the folder's meta.json
+    # run.meta.json (the name without its suffix) wins over it, run.avi.meta.json over both
+    write_meta(tmp_path, {"mm_per_px": 0.7}, name="run.meta.json")
+    assert load_meta(video, given)["mm_per_px"] == 0.7
+    write_meta(tmp_path, {"mm_per_px": 0.5}, name="run.avi.meta.json")
+    assert load_meta(video, given)["mm_per_px"] == 0.5
 
 
 @pytest.mark.parametrize(

@@ -169,7 +169,8 @@ def find_meta(path: str | os.PathLike[str]) -> Path | None:
     path : str or os.PathLike
         A ``.json`` file (taken as it is), a folder (``folder/meta.json``, else the parent's
         ``meta.json`` when its ``frame_pattern`` points into this folder, as in a synthetic
-        clip's ``frames/``) or a footage file (``<name>.meta.json`` beside it, else
+        clip's ``frames/``) or a footage file (``<name>.meta.json`` beside it, as
+        ``run1.tif.meta.json``, else ``<stem>.meta.json``, as ``run1.meta.json``, else
         ``meta.json`` beside it).
 
     Returns
@@ -186,7 +187,8 @@ def find_meta(path: str | os.PathLike[str]) -> Path | None:
             return candidate
         # frames/ inside a clip folder (synthetic layout)
         return path.parent / META_FILENAME if clip_footage(path.parent) == path else None
-    for candidate in (path.with_name(path.name + ".meta.json"), path.with_name(META_FILENAME)):
+    for candidate in (path.with_name(path.name + ".meta.json"),
+                      path.with_name(path.stem + ".meta.json"), path.with_name(META_FILENAME)):
         if candidate.is_file():
             return candidate
     return None
@@ -437,5 +439,8 @@ def _missing_message(path: Path, meta_path: Path | None, missing: list[str]) -> 
     it = "it" if len(missing) == 1 else "them"
     if meta_path is not None:
         return f"{meta_path} has no {keys}: add {it} to {meta_path.name} or {how}"
+    target = str(_meta_target(path))
+    if path.is_file() and path.suffix.lower() != ".json":  # one file's own metadata too
+        target += f" (or {path.name}.meta.json for this file alone)"
     return (f"{path}: no {META_FILENAME} beside the footage gives {keys}: "
-            f"add {it} to {_meta_target(path)} or {how}")
+            f"add {it} to {target} or {how}")
