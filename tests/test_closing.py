@@ -66,3 +66,32 @@ def test_contact_across_the_whole_view_is_found_and_the_light_continued(monkeypa
     monkeypatch.setattr(reference, "_dark_beyond", lambda *a: False)
     old = reference.free_surface(img)
     assert old.candidates[face].mean() < 0.1
+
+
+@pytest.mark.parametrize(("h", "w", "radius_px", "center_y"), [
+    (256, 640, 161.0, 128.0),  # cut by the top and bottom borders
+    (256, 640, 144.0, 128.0),  # cut nearer its top and bottom
+    (512, 640, 157.0, 400.0),  # cut by the bottom border only
+])
+def test_free_surface_of_a_lit_disc_cut_by_the_border_is_its_light(h, w, radius_px, center_y):
+    """A lit disc larger than the frame, no contact, a steep rim (tanh over 4 px, grey 4 to
+    190), no noise: the estimate is the light itself on the lit zone. Before the zone was
+    continued past the border along its edge (tir_contact._extension) it read the rim
+    where the rim meets the border 0.5-0.75 darker than the light there (the closing
+    filled a notch the continuation made), and took it for contact candidates; the
+    steep rim's foot read 0.1-0.25 from the Gaussian smoothing and the interpolation
+    back from the working scale. Tolerance: 0.05, under half the candidate darkness
+    (0.1)."""
+    from tir_contact.illumination import find_lit_zone
+
+    yy, xx = np.mgrid[:h, :w].astype(float)
+    dist = np.hypot(xx - w / 2, yy - center_y) - radius_px
+    light = (4.0 + 186.0 * 0.5 * (1 - np.tanh(dist / 4.0))).astype(np.float32)
+    lit = find_lit_zone(light).mask
+    assert 0 < lit[0].sum() < w or 0 < lit[-1].sum() < w  # the rim crosses a border
+    fs = reference.free_surface(light, lit)
+    smooth = cv2.GaussianBlur(light, (0, 0), reference.SMOOTH_SIGMA_PX,
+                              borderType=cv2.BORDER_REPLICATE)
+    excess = (1.0 - smooth / fs.image)[lit]
+    assert excess.max() < 0.05
+    assert not fs.candidates.any()

@@ -140,6 +140,43 @@ def test_three_small_contacts_at_the_soft_rim(tmp_path):
                for w in res.summary["warnings"])
 
 
+@pytest.mark.parametrize(("fraction", "center", "shape"), [
+    (0.5, (0.0, 0.0), (256, 640)),   # cut by the top and bottom borders: 4.0 % high, 9 regions
+    (0.4, (0.0, 0.0), (256, 640)),   # cut nearer its top: 6.1 % high, 6 regions
+    (0.3, (0.0, -60.0), (512, 640)),  # cut by the top border only: 4 regions
+])
+def test_lit_disc_cut_by_the_border_is_no_contact_where_its_rim_meets_it(tmp_path, fraction,
+                                                                        center, shape):
+    """A lit disc larger than the frame (a steep rim, 8 px, bright, hardly vignetted): where
+    its rim meets the border the free-surface closing filled the rim (the light continued
+    past the border kept the zone's plateau going straight on, a notch in its
+    brighter-than sets) and the rim was read as contact, 0.04-0.12 mm2 at each corner
+    (figures before, per case). The one round contact of 1.5 mm radius is measured to 1 %
+    (JPEG and its soft edge cost under 0.5 %) and is the only region."""
+    h, w = shape
+    free = lit_field(h, w, fraction=fraction, center=center, rim_px=8.0, vignetting=0.1,
+                     peak=190.0)
+    cov = coverage(h, w, [(w / 2 + center[0], h / 2 + center[1], 1.5 / MM_PER_PX)])
+    res = analyze_video(write_clip(tmp_path / "c", free, cov), tmp_path / "out", options=FAST)
+    assert abs(_area_error(res, cov.sum() * MM_PER_PX ** 2)) <= 0.01
+    assert res.frames["n_regions"].iloc[0] == 1
+    assert not res.summary["warnings"]
+
+
+def test_contact_at_the_border_of_a_cut_lit_disc_is_still_filled(tmp_path):
+    """A contact cut by the top border, inside a lit disc the borders cut: the light past
+    the border over the contact stays the plateau's (the contact lies in the lit zone with
+    light on either side of it along the border), so the closing fills it and the contact
+    is read whole (2 %: its edge along the border is cut; before, 6.2 % high with the
+    rim's corners read as contact)."""
+    h, w = 256, 640
+    free = lit_field(h, w, fraction=0.5, rim_px=8.0, vignetting=0.1, peak=190.0)
+    cov = coverage(h, w, [(300.0, 10.0, 1.5 / MM_PER_PX)])
+    res = analyze_video(write_clip(tmp_path / "c", free, cov), tmp_path / "out", options=FAST)
+    assert abs(_area_error(res, cov.sum() * MM_PER_PX ** 2)) <= 0.02
+    assert res.frames["n_regions"].iloc[0] == 1
+
+
 @pytest.mark.parametrize("fraction", [0.7, 0.25])
 def test_patchy_contact(tmp_path, fraction):
     """Real contact in patches of about 0.2 mm over a round pad (G0-like 0.7, G7-like 0.25)."""

@@ -56,6 +56,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from tir_contact._extension import extend_past_border
 from tir_contact._morphology import disc_close, mask_dilate
 from tir_contact._percentile import pixelwise_percentile
 from tir_contact.flatfield import Reference, darkness
@@ -439,10 +440,15 @@ def _group_medians(keys: np.ndarray, values: np.ndarray, n: int
 MAX_DISC_PX = 201
 
 
-def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
-    """Grey closing with a disc of `size_px`, on a shrunk copy, back at full size."""
+def _closing(smooth: np.ndarray, size_px: int, lit: np.ndarray | None = None) -> np.ndarray:
+    """Grey closing with a disc of `size_px`, on a shrunk copy, back at full size; `lit`:
+    the lit zone, whose rim is free past the border (:mod:`tir_contact._extension`)."""
     h, w = smooth.shape
     small, scale = shrink(smooth)
+    zone = None
+    if lit is not None and not lit.all():
+        zone = cv2.resize(lit.astype(np.float32), small.shape[::-1],
+                          interpolation=cv2.INTER_AREA) if scale < 1.0 else lit
     d = max(3, round(size_px * scale) | 1)
     # A wider disc works on the maxima of pool x pool blocks with a disc shrunk alike: the
     # closing is an upper envelope, which block maxima keep (block means lowered it where
@@ -455,22 +461,51 @@ def _closing(smooth: np.ndarray, size_px: int) -> np.ndarray:
         hp, wp = -(-hs // pool) * pool, -(-ws // pool) * pool
         small = np.pad(small, ((0, hp - hs), (0, wp - ws)), mode="edge").reshape(
             hp // pool, pool, wp // pool, pool).max(axis=(1, 3))
+        if zone is not None:
+            zone = np.pad(np.asarray(zone, np.float32), ((0, hp - hs), (0, wp - ws)),
+                          mode="edge").reshape(hp // pool, pool, wp // pool, pool).max(
+                              axis=(1, 3))
         d = max(3, round(d / pool) | 1)
     # The image is extended past its border by odd reflection (2 f(border) - f(inside)),
     # which continues a light falling towards the border: a mirror or a constant would
     # turn it into a valley the closing fills. A closing leaves light fields whose
     # brighter-than sets are convex (a vignetted disc or band) exactly as they are.
     # A dark contact near the border would come back as a bright bump: the extension is
-    # capped at the border value.
+    # capped at the border value. Past the lit zone's rim where it crosses the border the
+    # light is free (tir_contact._extension).
     pad = d // 2 + 2
-    big = np.minimum(np.pad(small, pad, mode="reflect", reflect_type="odd"),
-                     np.pad(small, pad, mode="edge"))
+    lit_zone = None if zone is None else np.asarray(zone) > 0.5
+    big = extend_past_border(small, lit_zone, pad, d // 2)
     closed = disc_close(big, d)  # OpenCV's closing with its elliptic disc, faster
-    closed = cv2.GaussianBlur(closed, (0, 0), 1.0)[pad:-pad, pad:-pad]
-    if pool > 1:
-        closed = cv2.resize(closed, (wp, hp), interpolation=cv2.INTER_LINEAR)[:hs, :ws]
-    if scale < 1.0:
-        closed = cv2.resize(closed, (w, h), interpolation=cv2.INTER_LINEAR)
+    blurred = cv2.GaussianBlur(closed, (0, 0), 1.0)
+    if lit_zone is not None:
+        # The Gaussian lifts a steep edge's dark foot above the closing (the ring by
+        # which a contact wider than the disc shows its edges and grows the disc). At the
+        # lit zone's edge that foot is the rim's light (0.1-0.25 darkness where the rim
+        # crosses the border): within the blur's reach (3 sigma) of the unlit outside
+        # the closing is smoothed but not lifted.
+        near = cv2.dilate((~np.pad(lit_zone, pad, mode="edge")).astype(np.uint8),
+                          np.ones((7, 7), np.uint8)).astype(bool)
+        blurred = np.where(near, np.minimum(blurred, closed), blurred)
+    lift = np.maximum(closed - big, 0.0)  # what the closing itself fills
+    closed = blurred
+    if pool == 1 and scale >= 1.0:
+        return np.maximum(closed[pad:-pad, pad:-pad], smooth)
+    # back at full size, interpolated in the padded closing: a resize of the cropped one
+    # holds the first working row over the half working pixel beyond its centre, which
+    # on a steep rim crossing the border (1 px a row) read 0.3 darkness
+    fy = (np.arange(h) + 0.5) * (hs / h) / pool - 0.5 + pad
+    fx = (np.arange(w) + 0.5) * (ws / w) / pool - 0.5 + pad
+    map_x, map_y = np.meshgrid(fx.astype(np.float32), fy.astype(np.float32))
+    closed = cv2.remap(closed, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    if lit_zone is not None:
+        # and there no pixel is lifted above the image by more than the closing fills the
+        # working pixels by it: the light interpolated from the working scale lies above
+        # the image on a steep rim's foot (0.1 darkness at 0.4 x), which is no fill
+        lift, rim = (cv2.remap(x, map_x, map_y, cv2.INTER_LINEAR,
+                               borderMode=cv2.BORDER_REPLICATE)
+                     for x in (lift, near.astype(np.float32)))
+        closed = np.where(rim > 0, np.minimum(closed, smooth + lift), closed)
     return np.maximum(closed, smooth)  # a closing never lies below the image
 
 
@@ -537,7 +572,7 @@ def free_surface(
     light = np.zeros(img.shape, bool)
 
     def candidates(size: int) -> tuple[np.ndarray, np.ndarray, float]:
-        closed = _closing(smooth, size)
+        closed = _closing(smooth, size, lit_mask)
         # a pixel the closing leaves unlit (grey 0: black footage) has no light to lose:
         # its darkness is 0, not 1 (which made every pixel a candidate and grew the disc
         # to the whole image, 30x the time of a normal clip)
