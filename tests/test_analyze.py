@@ -123,6 +123,23 @@ def test_steady_summary_matches_truth(analysed):
     assert mean == pytest.approx(t.contact_area_mm2.mean(), rel=0.02)
 
 
+def test_a_block_moving_against_the_sliding_direction_is_warned_about(analysed, clip,
+                                                                        tmp_path):
+    """The clip's block moves the way its meta.json says: no warning. Told the other way
+    (--sliding-direction), the analysis reads each element's back edge as its front, and
+    the block's own travel across the fixed camera's view says so."""
+    _, res = analysed
+    summary = json.loads((res / "summary.json").read_text())
+    assert not [w for w in summary["warnings"] if "sliding_direction" in w]
+    given = json.loads((clip / "meta.json").read_text())["sliding_direction"]
+    other = "right" if given == "left" else "left"
+    result = analyze_video(clip, tmp_path / "out", overrides={"sliding_direction": other},
+                           options=FAST)
+    said = [w for w in result.summary["warnings"] if "sliding_direction" in w]
+    assert len(said) == 1 and f"the block moves {given}" in said[0], said
+    assert f"sliding_direction is '{other}'" in said[0]
+
+
 def test_without_geometry_every_region_is_reported(copy_meta, clip, tmp_path):
     """Any TIR footage (no block): regions with area, centroid and box; no element table."""
     folder = tmp_path / "plain"

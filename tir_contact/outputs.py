@@ -279,6 +279,9 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
         out.append(f"no {setup.view.subject} found in any of the {len(frames)} frames "
                    f"analysed (reference: {setup.reference_method})")
     out += setup.view.warnings(frames)
+    against = _against_direction(setup, frames)
+    if against:
+        out.append(against)
     numbers = setup.numbers
     jumps = np.flatnonzero(np.diff(numbers) > 1)
     if len(jumps):
@@ -291,6 +294,36 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
         out.append(f"the container was cut short: {len(lost)} frame(s) lost "
                    f"({lost[0]}-{lost[-1]})")
     return out
+
+
+#: Share of the view's width the block's front edge must travel (fitted line over the
+#: frames that show the block) before its direction of travel is compared with
+#: ``sliding_direction``: well above the front edge's own scatter from frame to frame.
+DIRECTION_TRAVEL_FRACTION = 0.1
+
+
+def _against_direction(setup: VideoSetup, frames: pd.DataFrame) -> str | None:
+    """A warning when a block passing a fixed camera moves against ``sliding_direction``
+    (a wrong direction reads every element's back edge as its front: deflection angles
+    and front peaks on the wrong side), else None."""
+    if setup.camera != "fixed" or not len(frames) or "block_front_x_mm" not in frames:
+        return None
+    seen = frames[frames["block_in_view"].astype(bool)]
+    x = seen["block_front_x_mm"].to_numpy(float)
+    t = seen["time_s"].to_numpy(float)
+    ok = np.isfinite(x) & np.isfinite(t)
+    if ok.sum() < 3 or np.ptp(t[ok]) <= 0:
+        return None
+    travel = float(np.polyfit(t[ok], x[ok], 1)[0] * np.ptp(t[ok]))
+    width_mm = setup.shape[1] * setup.mm_per_px
+    direction = setup.meta.get("sliding_direction")
+    moves = "right" if travel > 0 else "left"
+    if abs(travel) < DIRECTION_TRAVEL_FRACTION * width_mm or moves == direction:
+        return None
+    return (f"the block moves {moves} in the image ({abs(travel):.1f} mm over "
+            f"{int(ok.sum())} frames) but sliding_direction is '{direction}': each "
+            "element's back edge is read as its front (deflection angles and front peaks "
+            "on the wrong side); check meta.json or --sliding-direction")
 
 
 def _gaps(numbers: np.ndarray) -> list[dict[str, int]]:
