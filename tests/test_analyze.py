@@ -140,6 +140,21 @@ def test_a_block_moving_against_the_sliding_direction_is_warned_about(analysed, 
     assert f"sliding_direction is '{other}'" in said[0]
 
 
+def test_contact_beyond_the_element_faces_is_warned_about(analysed, clip, tmp_path):
+    """At the clip's own scale the contact lies on the element faces (contact_ratio at
+    most 1: no warning); at three times its mm_per_px the faces the geometry gives are a
+    third as long in pixels and the contact covers several times them, which says the
+    scale or the geometry is wrong (before: areas nine times too large, no word)."""
+    _, res = analysed
+    summary = json.loads((res / "summary.json").read_text())
+    assert not [w for w in summary["warnings"] if "element faces" in w]
+    mm = json.loads((clip / "meta.json").read_text())["mm_per_px"]
+    result = analyze_video(clip, tmp_path / "out", overrides={"mm_per_px": 3 * mm},
+                           options=FAST)
+    said = [w for w in result.summary["warnings"] if "element faces" in w]
+    assert len(said) == 1 and f"mm_per_px {3 * mm:g}" in said[0], said
+
+
 def test_without_geometry_every_region_is_reported(copy_meta, clip, tmp_path):
     """Any TIR footage (no block): regions with area, centroid and box; no element table."""
     folder = tmp_path / "plain"

@@ -279,9 +279,10 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
         out.append(f"no {setup.view.subject} found in any of the {len(frames)} frames "
                    f"analysed (reference: {setup.reference_method})")
     out += setup.view.warnings(frames)
-    against = _against_direction(setup, frames)
-    if against:
-        out.append(against)
+    for check in (_against_direction, _beyond_faces):
+        said = check(setup, frames)
+        if said:
+            out.append(said)
     numbers = setup.numbers
     jumps = np.flatnonzero(np.diff(numbers) > 1)
     if len(jumps):
@@ -324,6 +325,26 @@ def _against_direction(setup: VideoSetup, frames: pd.DataFrame) -> str | None:
             f"{int(ok.sum())} frames) but sliding_direction is '{direction}': each "
             "element's back edge is read as its front (deflection angles and front peaks "
             "on the wrong side); check meta.json or --sliding-direction")
+
+
+#: Median contact ratio (contact over the element faces' nominal area) above which the
+#: image scale or the block's geometry is wrong: contact lies on the faces, and blur and
+#: unmixing add about a pixel at each edge (a ratio of 1.2 for faces of 10 px).
+MAX_CONTACT_RATIO = 1.5
+
+
+def _beyond_faces(setup: VideoSetup, frames: pd.DataFrame) -> str | None:
+    """A warning when the contact covers clearly more than the block's element faces
+    (``contact_ratio``: a wrong ``mm_per_px`` or block geometry), else None."""
+    if "contact_ratio" not in frames or not len(frames):
+        return None
+    ratio = frames["contact_ratio"].to_numpy(float)
+    ratio = ratio[np.isfinite(ratio)]
+    if not ratio.size or float(np.median(ratio)) <= MAX_CONTACT_RATIO:
+        return None
+    return (f"the contact covers {float(np.median(ratio)):.3g} times the block's element "
+            f"faces (contact_ratio, median over {ratio.size} frames): the image scale "
+            f"(mm_per_px {setup.mm_per_px:g}) or the block's geometry in meta.json is wrong")
 
 
 def _gaps(numbers: np.ndarray) -> list[dict[str, int]]:
