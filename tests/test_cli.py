@@ -85,6 +85,17 @@ def test_bad_options_exit_2_without_traceback(argv, capsys):
     assert "Traceback" not in err
 
 
+def test_unknown_option_is_said_by_the_command_with_the_nearest_one(capsys):
+    """A typo after the command: the command's own usage line and error (before: the top
+    level's, which does not list the command's options), and the option meant."""
+    assert main(["analyze", "x", "--out", "o", "--mm-px", "0.05"]) == 2
+    err = capsys.readouterr().err
+    assert "usage: tir-contact analyze" in err
+    last = err.splitlines()[-1]
+    assert last.startswith("tir-contact analyze: error: unrecognized arguments: --mm-px")
+    assert "did you mean --mm-per-px?" in last
+
+
 @pytest.mark.parametrize(("option", "value", "message"), [
     ("--mm-per-px", "0.1mm", "option --mm-per-px: 'mm_per_px' must be a number > 0, got '0.1mm'"),
     ("--sliding-direction", "leftward", "option --sliding-direction: 'sliding_direction' must be"),
@@ -148,14 +159,14 @@ def _every_command_runs(func, monkeypatch) -> None:
     """Make :func:`tir_contact.cli.main` call `func(args)` instead of the command's ``run``
     (the arguments parsed as usual)."""
     parser = build_parser()
-    real_parse = parser.parse_args
+    real_parse = parser.parse_known_args
 
-    def parse(argv=None):
-        args = real_parse(argv)
+    def parse(argv=None, namespace=None):
+        args, extras = real_parse(argv, namespace)
         args.func = func
-        return args
+        return args, extras
 
-    monkeypatch.setattr(parser, "parse_args", parse)
+    monkeypatch.setattr(parser, "parse_known_args", parse)
     monkeypatch.setattr("tir_contact.cli.build_parser", lambda commands=None: parser)
 
 

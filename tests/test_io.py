@@ -400,7 +400,9 @@ def test_video_lossy_within_tolerance(tmp_path, fourcc, ext):
 
 def test_video_cut_short_lists_its_lost_frames(tmp_path):
     """An AVI cut at half its bytes: the frames its header claims past the last one that
-    decodes are lost (the analysis then marks the video partial), the rest read exactly."""
+    decodes are lost (the analysis then marks the video partial), and that last one too
+    (it may be cut: OpenCV 4.8 decodes a truncated FFV1 frame with 19 % of its pixels
+    wrong); the rest read exactly."""
     frames = make_frames(20)
     whole = tmp_path / "whole.avi"
     write_video(whole, frames, "FFV1")
@@ -411,7 +413,8 @@ def test_video_cut_short_lists_its_lost_frames(tmp_path):
         n = len(reader)
         assert 1 <= n < 20
         assert reader.lost_frames == tuple(range(n, 20))
-        assert_array_equal(reader.get_frame(n - 1), frames[n - 1])  # FFV1: exact
+        for i in range(n):
+            assert_array_equal(reader.get_frame(i), frames[i])  # FFV1: exact
     with open_footage(whole) as reader:
         assert reader.lost_frames == ()
 

@@ -150,7 +150,7 @@ def _add_output_options(parser: argparse.ArgumentParser) -> None:
                            help="more log output (-v info, -vv debug and tracebacks)")
         group.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
                            help="no progress bars or per-item lines")
-        leaf.set_defaults(command_prog=leaf.prog)
+        leaf.set_defaults(command_prog=leaf.prog, command_parser=leaf)
 
 
 def _command_in(argv: Sequence[str]) -> str | None:
@@ -172,6 +172,23 @@ def _report(prog: str, exc: BaseException, verbose: int, *, internal: bool = Fal
               "(run with -vv for the traceback)", file=sys.stderr)
     else:
         print(f"{prog}: error: {one_line(exc, limit=None)}", file=sys.stderr)
+
+
+def _unrecognized(args: argparse.Namespace, extras: Sequence[str]) -> str:
+    """The message for arguments the command does not know, with the nearest of its
+    options for each that looks like an option (``--mm-px``: ``--mm-per-px``)."""
+    import difflib
+
+    leaf = getattr(args, "command_parser", None)
+    known = [o for a in (leaf._actions if leaf else []) for o in a.option_strings]
+    hints = []
+    for word in extras:
+        if word.startswith("--"):
+            near = difflib.get_close_matches(word.split("=")[0], known, n=1, cutoff=0.6)
+            if near:
+                hints.append(f"{word}: did you mean {near[0]}?")
+    text = f"unrecognized arguments: {' '.join(extras)}"
+    return text + (f" ({'; '.join(hints)})" if hints else "")
 
 
 def _setup_logging(verbose: int) -> None:
@@ -203,7 +220,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     command = _command_in(argv)
     parser = build_parser(commands=() if command is None else (command,))
     try:
-        args = parser.parse_args(argv)
+        args, extras = parser.parse_known_args(argv)
+        if extras:  # said by the command's own parser, with its usage line
+            getattr(args, "command_parser", parser).error(_unrecognized(args, extras))
     except SystemExit as exc:  # --help, --version and argparse's usage errors
         return int(exc.code or 0) if isinstance(exc.code, int) else USAGE_ERROR
     _setup_logging(args.verbose)

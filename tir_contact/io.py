@@ -715,8 +715,9 @@ class VideoFileReader(_StoredFormat):
     next frame; other indices seek with ``CAP_PROP_POS_FRAMES``. The frame count in the
     container header is verified when opening: by reading the last frame, and by counting
     the frames when that fails or more frames follow; frames the header claims past the
-    last one that decodes (a file cut short) are listed in :attr:`lost_frames`. A video
-    without frames is an error.
+    last one that decodes (a file cut short) are listed in :attr:`lost_frames`, and so is
+    that last one, which may be cut as well (a decoder conceals the missing bytes of a
+    truncated frame rather than fail on it). A video without frames is an error.
     Frames are 8-bit; colour (OpenCV decodes to BGR) is converted to grey.
     """
 
@@ -753,7 +754,12 @@ class VideoFileReader(_StoredFormat):
         self._frame_rate = float(fps) if fps and np.isfinite(fps) and fps > 0 else None
         claimed = int(cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
         self._length = self._verified_count(claimed)
-        if self._length < claimed:  # cut short: the frames past the last decodable are lost
+        if 1 < self._length < claimed:
+            # cut short: the frames past the last decodable are lost, and so is the last
+            # one that decodes, which may be cut too: a decoder conceals a frame's missing
+            # bytes (OpenCV 4.8's FFmpeg returns a truncated FFV1 frame 19 % wrong)
+            self._length -= 1
+        if self._length < claimed:
             self._lost_frames = tuple(range(self._length, claimed))
         if self._length != claimed:
             logger.warning("%s: header says %d frames, %d can be read", file, claimed, self._length)

@@ -29,7 +29,8 @@ DESCRIPTION = (
 
 
 def _meta_option_keys() -> list[str]:
-    return [k for k, f in META_FIELDS.items() if f.kind != "object"]
+    # container_fps describes a file's header, not the footage: meta.json only
+    return [k for k, f in META_FIELDS.items() if f.kind != "object" and k != "container_fps"]
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
