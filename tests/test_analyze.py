@@ -252,6 +252,10 @@ def test_batch_survives_every_kind_of_broken_video(run_cli, copy_meta, clip, tmp
         assert report.loc[name, "status"] == status, name
     # the failure's ERROR line (on the console of a user; here in pytest's log capture)
     assert "notes.docx" in caplog.text
+    # a partial video's skipped frame is said too, by its file: frame 50 of trunc
+    skipped = [r.getMessage() for r in caplog.records
+               if r.levelname == "WARNING" and "skipped, first:" in r.getMessage()]
+    assert any(sorted((root / "trunc").glob("*.png"))[50].name in m for m in skipped), skipped
 
 
 def test_empty_folder_given_directly_is_a_one_line_error(tmp_path):

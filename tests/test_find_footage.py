@@ -55,3 +55,18 @@ def test_a_stray_image_beside_clip_folders_does_not_hide_them(tmp_path):
                                             ("other", "other")}
     # without --recursive the folder given is one video
     assert _found(root) == {(".", "mixed")}
+
+
+def test_the_same_video_given_twice_is_analysed_once(tmp_path, monkeypatch, caplog):
+    # run1, ./run1/ and a tree holding run1: one video, under its own name, each repeat
+    # said; two different videos of the same name are both kept (names made unique)
+    _frames(tmp_path / "run1", 3)
+    _frames(tmp_path / "b" / "run1", 2)
+    monkeypatch.chdir(tmp_path)
+    with caplog.at_level("WARNING", logger="tir_contact"):
+        found = find_footage(["run1", "./run1/", str(tmp_path / "run1")])
+    assert [(f.path.resolve(), f.name) for f in found] == [((tmp_path / "run1").resolve(),
+                                                            "run1")]
+    assert caplog.text.count("given more than once") == 2
+    both = find_footage(["run1", "b"], recursive=True)
+    assert len(both) == 2 and len({f.name for f in both}) == 2

@@ -227,6 +227,20 @@ def test_read_characteristic_both_formats(tmp_path):
         read_characteristic(table, select={"humidity_pct": 50})
 
 
+def test_read_characteristic_refuses_two_blocks_pooled(tmp_path):
+    # an evaluation of G0 and G3 runs: one law fitted to both would be neither block's;
+    # the message names the blocks and the selection that picks one
+    table = pd.DataFrame({
+        "row_type": ["run"] * 4, "specimen": ["G0", "G0", "G3", "G3"],
+        "velocity_mps": [1.0, 3.0, 1.0, 3.0], "mu_mean_method1": [0.3, 0.2, 0.2, 0.1]})
+    path = tmp_path / "steady_characteristic.csv"
+    table.to_csv(path, index=False)
+    with pytest.raises(ValueError, match=r"rows of 2 specimens \(G0, G3\).*"
+                                         r"--select specimen=G0"):
+        read_characteristic(path)
+    assert_allclose(read_characteristic(path, select={"specimen": "G3"}).mu, [0.2, 0.1])
+
+
 def test_identify_rejects_bad_requests():
     t = np.linspace(0, 0.01, 20)
     s = DeflectionSeries(t, np.zeros(20), 1.0, F_N)

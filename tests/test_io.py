@@ -28,7 +28,7 @@ from tir_contact.io import (
     load_meta,
     open_footage,
 )
-from tir_contact.meta import option_flag
+from tir_contact.meta import clip_footage, option_flag
 
 # --- helpers -----------------------------------------------------------------------------
 
@@ -243,6 +243,27 @@ def test_empty_folder(tmp_path):
     (tmp_path / "meta.json").write_text("{}")
     with pytest.raises(FootageError, match=r"no image files .* \(only meta.json\)"):
         open_footage(tmp_path)
+
+
+def test_empty_folder_names_the_subfolder_that_holds_the_frames(tmp_path):
+    # a clip folder whose meta.json lacks frame_pattern, frames in frames/: the message
+    # names frames/ and the key to add; after adding it, the same path reads the frames
+    clip = tmp_path / "run1"
+    write_folder(clip / "frames", make_frames(3), ".png")
+    (clip / "notes").mkdir()  # a sub-folder without images is not named
+    (clip / "meta.json").write_text("{}")
+    with pytest.raises(FootageError) as err:
+        open_footage(clip)
+    message = str(err.value)
+    assert "sub-folder frames:" in message and "notes" not in message
+    assert '"frame_pattern": "frames/<file name>"' in message
+    (clip / "meta.json").write_text(json.dumps({"frame_pattern": "frames/f{frame:03d}.png"}))
+    assert len(FrameFolderReader(clip_footage(clip))) == 3
+    # without meta.json the hint is to give the sub-folder itself
+    (clip / "meta.json").unlink()
+    hint = re.escape(f"give {clip / 'frames'}, or use --recursive")
+    with pytest.raises(FootageError, match=hint):
+        open_footage(clip)
 
 
 def test_non_image_file_among_frames(tmp_path):

@@ -21,6 +21,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import re
 import sys
 import time
 import traceback
@@ -230,7 +231,23 @@ def find_footage(
             items.extend(found)
         else:
             items.append(_resolve(p))
-    return _unique_names(items)
+    return _unique_names(_drop_repeats(items))
+
+
+def _drop_repeats(items: list[Footage]) -> list[Footage]:
+    """The footage once each, in first-given order: the same video given twice (``run1``
+    and ``./run1/``, or a file inside a tree also searched) would be analysed twice and
+    written under two names; each repeat is logged as a warning."""
+    seen: set[Path] = set()
+    out = []
+    for it in items:
+        key = it.path.resolve()
+        if key in seen:
+            logger.warning("%s: given more than once; analysed once", it.path)
+            continue
+        seen.add(key)
+        out.append(it)
+    return out
 
 
 # --------------------------------------------------------------------------------------------
@@ -483,10 +500,17 @@ def _settle_interrupted(report: BatchReport, todo: list[Footage], out: Path,
 _LOGGED_BY_READER = ("the container was cut short",)
 
 
+#: The part of a partial video's message that names its skipped frames (:func:`_run_one`).
+_SKIPPED = re.compile(r"\d+ frame\(s\) skipped, first: .*$", re.DOTALL)
+
+
 def _log(status: VideoStatus, remote: bool) -> None:
     """Print a finished video's failure and warnings once (``ERROR:`` / ``WARNING:``)."""
     if status.status == "failed":
         logger.error("%s: %s", status.path, status.message)
+    skipped = _SKIPPED.search(status.message) if status.status == "partial" else None
+    if skipped is not None:  # lost frames are said by the reader or among the warnings
+        logger.warning("%s: %s", status.path, skipped.group(0))
     for text in status.warnings:
         if remote or not text.startswith(_LOGGED_BY_READER):
             logger.warning("%s: %s", status.path, text)

@@ -54,7 +54,7 @@ from tir_contact._readers import (
     to_grey,
     unpack_12bit,
 )
-from tir_contact.meta import load_meta
+from tir_contact.meta import META_FILENAME, load_meta
 
 logger = logging.getLogger(__name__)
 
@@ -440,10 +440,14 @@ class FrameFolderReader(_StoredFormat):
             raise FootageError(f"{folder}: not a folder", folder)
         files: list[Path] = []
         skipped: list[str] = []
+        subfolders: list[str] = []
         with os.scandir(folder) as entries:
             for entry in entries:
                 name = entry.name
-                if name.startswith(".") or entry.is_dir():
+                if name.startswith("."):
+                    continue
+                if entry.is_dir():
+                    subfolders.append(name)
                     continue
                 suffix = os.path.splitext(name)[1].lower()
                 if suffix in IMAGE_SUFFIXES:
@@ -462,7 +466,8 @@ class FrameFolderReader(_StoredFormat):
         if not files:
             extra = f" (only {', '.join(sorted(skipped))})" if skipped else ""
             raise FootageError(
-                f"{folder}: no image files ({', '.join(IMAGE_SUFFIXES)}) in the folder{extra}",
+                f"{folder}: no image files ({', '.join(IMAGE_SUFFIXES)}) in the folder{extra}"
+                + _subfolder_hint(folder, subfolders),
                 folder,
             )
         files.sort(key=lambda p: natural_key(p.name))
@@ -482,6 +487,29 @@ class FrameFolderReader(_StoredFormat):
 
     def _frame_name(self, index: int) -> str:
         return f"{self._files[index]} (frame {index})"
+
+
+def _subfolder_hint(folder: Path, subfolders: Sequence[str]) -> str:
+    """A hint naming the sub-folders of `folder` that hold frames, for the message of a
+    frame folder without images (a clip folder whose ``meta.json`` lacks ``frame_pattern``)."""
+    with_frames = []
+    for name in sorted(subfolders, key=natural_key):
+        try:
+            with os.scandir(folder / name) as entries:
+                if any(os.path.splitext(e.name)[1].lower() in IMAGE_SUFFIXES
+                       and not e.name.startswith(".") for e in entries):
+                    with_frames.append(name)
+        except OSError:
+            continue
+    if not with_frames:
+        return ""
+    first = with_frames[0]
+    where = (f"sub-folder{'s' if len(with_frames) > 1 else ''} "
+             f"{', '.join(with_frames)}")
+    if (folder / META_FILENAME).is_file():
+        return (f"; the frames may be in its {where}: for {folder / META_FILENAME} to name "
+                f"them, add \"frame_pattern\": \"{first}/<file name>\" to it")
+    return f"; the frames may be in its {where}: give {folder / first}, or use --recursive"
 
 
 _LAST_NUMBER = re.compile(r"(\d+)(?!.*\d)")

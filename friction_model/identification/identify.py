@@ -262,6 +262,7 @@ def read_characteristic(
                 table = table[kinds == kind]
                 break
     table = _select_rows(table, select, src)
+    _one_group(table, src)
     table = table[np.isfinite(table[mu_col].to_numpy(float))]
     if len(table) < 2:
         raise src.error(
@@ -304,6 +305,30 @@ def _select_rows(
             mask = col.astype(str).to_numpy() == str(value)
         table = table[mask]
     return table
+
+
+#: Columns of a characteristic that name what was measured: rows differing in one are
+#: different characteristics (another tread block), not repeats. ``condition`` is not
+#: one: it is a free grouping key, which a user may give per velocity level.
+GROUP_COLUMNS = ("specimen",)
+
+
+def _one_group(table: pd.DataFrame, src: TableSource) -> None:
+    """Refuse rows of more than one specimen: one friction law fitted to the
+    characteristics of two blocks pooled is neither of them."""
+    for col in GROUP_COLUMNS:
+        if col not in table.columns:
+            continue
+        values = table[col].dropna().astype(str).str.strip()
+        groups = sorted(set(values[values != ""]))
+        if len(groups) > 1:
+            shown = ", ".join(groups[:4]) + (", ..." if len(groups) > 4 else "")
+            raise src.error(
+                f"column '{col}': rows of {len(groups)} {col}s ({shown}); a friction law is "
+                f"fitted to one characteristic: choose one with select={{'{col}': "
+                f"'{groups[0]}'}} (the CLI's --select {col}={groups[0]})",
+                column=col,
+            )
 
 
 def _characteristic_noise(
