@@ -262,6 +262,22 @@ def test_calibrate_errors_and_exit_codes(run_cli, tmp_path, capsys):
     assert run_cli(["calibrate", "--characteristic", bad, "--out", out, "--level", "1.5"]) == 2
 
 
+def test_calibrate_a_characteristic_of_two_blocks_needs_select(run_cli, tmp_path, capsys):
+    # G0 and G3 rows in one file: refused in one line naming both and the option; with
+    # --select the G3 rows alone are fitted (n_points counts them)
+    char = make_characteristic(tmp_path / "steady.csv", seed=3)
+    table = pd.read_csv(char)
+    two = pd.concat([table.assign(specimen="G3"), table.assign(specimen="G0")])
+    two.to_csv(char, index=False)
+    out = str(tmp_path / "p.json")
+    args = ["calibrate", "--characteristic", char, "--law", "DecreasingSqrtLaw", "--out", out]
+    assert run_cli(args) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "(G0, G3)" in err and "--select specimen=G0" in err
+    assert run_cli([*args, "--select", "specimen=G3"]) == 0
+    assert read_parameters(out)["friction_law"]["n_points"] == len(table)
+
+
 def test_simulate_errors(run_cli, tmp_path, capsys):
     assert run_cli(["simulate", "--params", tmp_path / "none.json", "--out", tmp_path]) == 2
     assert "none.json: does not exist" in capsys.readouterr().err

@@ -20,7 +20,8 @@ direction; the options override it. ``--characteristic`` is a steady table or th
 evaluation's ``steady_characteristic.csv`` (mu(v) of its repeated runs where it has them,
 fitted with ``--law``; ``auto`` leaves out the laws the replicate noise contradicts and
 ranks the rest by AICc, and when the data cannot tell them apart it says so, names the
-laws still in play and exits with code 2 asking for ``--law``). Every fit reports its
+laws still in play and exits with code 2 asking for ``--law``; rows of more than one
+``specimen`` are refused until ``--select specimen=NAME`` picks one). Every fit reports its
 reduced chi-square against the noise; a misfit is warned about and its intervals widened.
 ``--transient`` takes transient tables (``time_s, velocity_mps, angle_deg``). The element
 (E, loss factor) is identified together with the law
