@@ -53,10 +53,19 @@ def test_transient_table_names_friction_relaxation(run_cli, tmp_path, capsys):
     assert "missing effect: friction_relaxation" in capsys.readouterr().out
 
 
-def test_stick_slip_names_the_modulus(run_cli, tmp_path, capsys):
-    code = run_cli(["discrepancy", "--stick-slip", "1500,1111", "--out", tmp_path / "d"])
+def test_stick_slip_names_the_modulus_only_at_a_plausible_strength(run_cli, tmp_path, capsys):
+    # 1300 against 1111 Hz closes at strength 0.41 (plausible up to 0.60, a tan(delta) of
+    # 0.3): named. The thesis's 1500 against 1111 Hz needs 0.90: an unexplained residual,
+    # the demo's verdict on its own 826 Hz (the CLI gave "missing effect" at 2.5 before)
+    code = run_cli(["discrepancy", "--stick-slip", "1300,1111", "--out", tmp_path / "d"])
     assert code == 0
     assert capsys.readouterr().out.startswith("missing effect: frequency_dependent_modulus")
+    code = run_cli(["discrepancy", "--stick-slip", "1500,1111", "--out", tmp_path / "e"])
+    assert code == 0
+    out = capsys.readouterr().out
+    assert out.startswith("unexplained residual: frequency_dependent_modulus would need "
+                          "strength 0.90 (plausible <= 0.60)"), out
+    assert json.loads((tmp_path / "e" / "result.json").read_text())["missing_effects"] == []
 
 
 def test_bad_input_is_one_line(run_cli, tmp_path, capsys):
