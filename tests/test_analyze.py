@@ -6,6 +6,7 @@ effect). Clips are small (0.2 mm/px, 320 x 128 px) so the module renders in a fe
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import shutil
 import subprocess
@@ -285,6 +286,19 @@ def test_resume_skips_current_results_and_redoes_changed_ones(clip, tmp_path):
     assert not is_current(items[0], out)
     third = analyze_batch(items, out, options=FAST, workers=1, progress=False, resume=True)
     assert [v.status for v in third.videos] == ["done"]
+    # other analysis options or metadata values: analysed again with them, not resumed
+    # (the old numbers were kept under the new options before)
+    assert is_current(items[0], out, options=FAST, overrides={"mm_per_px": None})
+    contrast = dataclasses.replace(FAST, contrast=0.5)
+    assert not is_current(items[0], out, options=contrast)
+    fourth = analyze_batch(items, out, options=contrast, workers=1, progress=False,
+                           resume=True)
+    assert [v.status for v in fourth.videos] == ["done"]
+    summary = json.loads((out / items[0].name / "summary.json").read_text())
+    assert summary["options"]["contrast"] == 0.5
+    mm = summary["meta"]["mm_per_px"]
+    assert is_current(items[0], out, options=contrast, overrides={"mm_per_px": mm})
+    assert not is_current(items[0], out, options=contrast, overrides={"mm_per_px": 2 * mm})
 
 
 def test_a_failure_while_writing_keeps_the_old_result(clip, tmp_path, monkeypatch):

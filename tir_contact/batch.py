@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import os
 import re
 import sys
@@ -34,13 +35,13 @@ from typing import Any
 import pandas as pd
 import tifffile
 
-from tir_common.atomic import atomic_write, write_json
+from tir_common.atomic import atomic_write, json_safe, write_json
 from tir_common.progress import progress_bar, show_progress
 from tir_contact import _workers
 from tir_contact._outdir import remove_stale_temporaries
 from tir_contact._readers import FootageError, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
-from tir_contact.meta import META_FILENAME, clip_footage
+from tir_contact.meta import META_FILENAME, clip_footage, option_flag
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
 from tir_contact.prepare import IMAGE_SUFFIXES, _images_in, footage_fingerprint, resolve_footage
 from tir_contact.report import write_report
@@ -254,8 +255,14 @@ def _drop_repeats(items: list[Footage]) -> list[Footage]:
 # running
 
 
-def is_current(footage: Footage, out: Path) -> bool:
-    """True when ``out/<name>`` holds complete results of this footage as it is now."""
+def is_current(footage: Footage, out: Path, *, options: AnalysisOptions | None = None,
+               overrides: Mapping[str, Any] | None = None) -> bool:
+    """True when ``out/<name>`` holds complete results of this footage as it is now.
+
+    With `options` (and `overrides`, the command line's metadata values), the results must
+    also have been made with the same analysis options and metadata values: ``--resume``
+    after ``--contrast 0.5`` was added reanalyses, it does not keep the old numbers.
+    """
     folder = out / footage.name
     if not all((folder / f).is_file() for f in RESULT_FILES):
         return False
@@ -264,11 +271,44 @@ def is_current(footage: Footage, out: Path) -> bool:
         fingerprint = footage_fingerprint(footage.path)
     except (OSError, ValueError):
         return False
-    return (summary.get("complete") is True
-            and summary.get("result_version") == _RESULT_VERSION
-            and summary.get("fingerprint") == fingerprint
-            and not summary.get("skipped_frames")
-            and not summary.get("lost_frames"))
+    current = (summary.get("complete") is True
+               and summary.get("result_version") == _RESULT_VERSION
+               and summary.get("fingerprint") == fingerprint
+               and not summary.get("skipped_frames")
+               and not summary.get("lost_frames"))
+    if not current or options is None:
+        return current
+    changed = _changed_settings(summary, options, overrides)
+    if changed:
+        logger.info("%s: results made with other %s; analysed again", footage.path,
+                    ", ".join(changed))
+    return not changed
+
+
+def _changed_settings(summary: Mapping[str, Any], options: AnalysisOptions,
+                      overrides: Mapping[str, Any] | None) -> list[str]:
+    """The options and metadata values of this run that differ from those ``summary.json``
+    recorded (option names as on the command line)."""
+    stored = summary.get("options") or {}
+    now = json_safe(asdict(options))
+    changed = [option_flag(k) for k, v in now.items() if stored.get(k, v) != v]
+    meta = summary.get("meta") or {}
+    for key, value in (overrides or {}).items():
+        if value is None:  # not given
+            continue
+        node: Any = meta
+        for part in key.split("."):
+            node = node.get(part) if isinstance(node, dict) else None
+        if not _same(node, json_safe(value)):
+            changed.append(option_flag(key))
+    return changed
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal, numbers to a relative 1e-9 (a value written to JSON and read back)."""
+    if isinstance(a, int | float) and isinstance(b, int | float) and not isinstance(a, bool):
+        return math.isclose(float(a), float(b), rel_tol=1e-9, abs_tol=1e-15)
+    return a == b
 
 
 def _resumed(footage: Footage, out: Path) -> VideoStatus:
@@ -384,7 +424,7 @@ def analyze_batch(
     started = time.time()  # results written after this are this batch's
     todo: list[Footage] = []
     for it in items:
-        if resume and is_current(it, out_path):
+        if resume and is_current(it, out_path, options=options, overrides=overrides):
             report.videos.append(_resumed(it, out_path))
         else:
             todo.append(it)

@@ -45,7 +45,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run on an existing dask.distributed scheduler (tcp://host:8786)")
     p.add_argument("--resume", action="store_true",
-                   help="skip videos whose results are complete and current")
+                   help="skip videos whose results are complete, current and made with "
+                        "the same analysis and metadata options")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     g = p.add_argument_group("analysis")
     g.add_argument("--reference", type=input_file, default=None, metavar="IMAGE",
