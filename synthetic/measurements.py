@@ -790,6 +790,9 @@ def make_raw_runs(
                 "condition": condition,
                 "run": run_no,
                 "nominal_area_mm2": geometry.nominal_area_mm2,
+                # the discrepancy workflow's steady table needs it as its own key (the
+                # condition text is free)
+                "salinity_pct": float(salinity_pct),
             },
         )
         if tau > 0:

@@ -115,3 +115,25 @@ def test_calibrate_auto_that_cannot_decide_exits_2_naming_the_laws(tmp_path, cap
     assert len(err) == 1 and "cannot choose a friction law" in err[0]
     assert "still in play: ConstantLaw, DecreasingSqrtLaw" in err[0] and "--law" in err[0]
     assert not (tmp_path / "p.json").exists()
+
+
+def test_the_generators_raw_runs_of_two_blocks_go_through_evaluate_to_discrepancy(tmp_path):
+    # synth measurements --kind raw (G0 and G3 runs) -> evaluate -> the discrepancy's steady
+    # table, nothing given by hand: each row's salinity from the run files, its sipes and
+    # nominal pressure (force over area) from its own specimen's reference block (before:
+    # no salinity_pct, and no n_sipes for a file of two specimens)
+    from friction_model.discrepancy import read_steady_table
+
+    assert main(["synth", "measurements", "--kind", "raw", "--velocities", "1,3",
+                 "--repeats", "2", "--out", str(tmp_path / "raw")]) == 0
+    assert main(["evaluate", str(tmp_path / "raw"), "--out", str(tmp_path / "ev"),
+                 "--no-plots", "-q"]) == 0
+    char = tmp_path / "ev" / "steady_characteristic.csv"
+    table = read_steady_table(char)
+    rows = pd.read_csv(char)
+    rows = rows[rows.row_type == "run"] if "row_type" in rows else rows
+    sipes = {"G0": 0, "G3": 3}
+    assert sorted(table["n_sipes"]) == sorted(sipes[s] for s in rows.specimen)
+    assert (table["salinity_pct"] == 0.0).all()
+    # the generator's 2.5 bar (its normal force noise is about 1 N of 400 N)
+    assert np.allclose(table["pressure_bar"], 2.5, rtol=0.01)

@@ -213,8 +213,8 @@ def steady_table_from_characteristic(
     * the measured pressure, temperature and humidity of the runs are replaced by the mean
       of their set point (runs within 5 %, 0.5 K and 5 % of each other), so that the
       repeats of one condition form one condition;
-    * ``n_sipes``: the argument, else the column or ``meta_n_sipes``, else the specimen's
-      reference block;
+    * ``n_sipes``: the argument, else the column or ``meta_n_sipes``, else each row's
+      specimen's reference block (a file of G0 and G3 runs gives each row its own);
     * ``salinity_pct``: the argument, else the column or ``meta_salinity_pct`` (a
       ``# salinity_pct:`` line in the run files);
     * ``temperature_C``, ``humidity_pct``: the file's (the rig measures them).
@@ -262,17 +262,19 @@ def _set_points(values: np.ndarray, rel_tol: float, abs_tol: float) -> np.ndarra
     return means[levels]
 
 
-def _specimen_block(table: pd.DataFrame) -> BlockGeometry | None:
-    """The reference block every row's ``specimen`` names (None when not one preset)."""
+def _specimen_blocks(table: pd.DataFrame) -> list[BlockGeometry] | None:
+    """The reference block each row's ``specimen`` names (None unless every row names
+    one: G0 and G3 runs evaluated together give each row its own block)."""
     if "specimen" not in table.columns:
         return None
-    names = set(table["specimen"].astype(str).str.strip())
-    if len(names) != 1:
-        return None
-    try:
-        return reference_block(names.pop())
-    except ValueError:
-        return None
+    blocks: dict[str, BlockGeometry] = {}
+    names = table["specimen"].astype(str).str.strip().tolist()
+    for name in set(names):
+        try:
+            blocks[name] = reference_block(name)
+        except ValueError:
+            return None
+    return [blocks[name] for name in names]
 
 
 def _characteristic_value(
@@ -293,9 +295,9 @@ def _characteristic_sipes(
 ) -> np.ndarray:
     """``n_sipes``: the argument, the column, or the specimen's reference block."""
     if given is None and not ({"n_sipes", "meta_n_sipes"} & set(table.columns)):
-        block = _specimen_block(table)
-        if block is not None:
-            return np.full(len(table), block.n_sipes)
+        blocks = _specimen_blocks(table)
+        if blocks is not None:
+            return np.array([b.n_sipes for b in blocks])
     return _characteristic_value(
         table, src, "n_sipes", given, "--n-sipes N (or name a reference block G0/G3/G5/G6/G7 "
         "as the runs' specimen)")
@@ -311,10 +313,11 @@ def _characteristic_pressure(
         p = src.numbers(table, "normal_pressure_Pa", finite=False)
         if np.all(np.isfinite(p)):
             return p / 1e5
-    block = _specimen_block(table)
-    if "normal_force_N" in table.columns and block is not None:
+    blocks = _specimen_blocks(table)
+    if "normal_force_N" in table.columns and blocks is not None:
         force = src.numbers(table, "normal_force_N")
-        return force / (block.nominal_area_mm2 * 1e-6) / 1e5
+        area_m2 = np.array([b.nominal_area_mm2 for b in blocks]) * 1e-6
+        return force / area_m2 / 1e5
     raise src.error("no nominal pressure (normal_pressure_Pa, or normal_force_N with a "
                     "reference block G0/G3/G5/G6/G7 as the specimen); give --pressure-bar P")
 
