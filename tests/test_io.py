@@ -23,6 +23,7 @@ from tir_contact.io import (
     FootageError,
     FootageReader,
     FrameFolderReader,
+    ImageFileReader,
     MultiPageTiffReader,
     VideoFileReader,
     load_meta,
@@ -243,6 +244,31 @@ def test_empty_folder(tmp_path):
     (tmp_path / "meta.json").write_text("{}")
     with pytest.raises(FootageError, match=r"no image files .* \(only meta.json\)"):
         open_footage(tmp_path)
+
+
+@pytest.mark.parametrize("ext", [".png", ".jpg", ".bmp"])
+def test_a_single_image_file_is_a_one_frame_video(tmp_path, ext, caplog):
+    # before: read as a video through OpenCV, "header says -9223372036854775808 frames",
+    # then "cannot decode this frame"
+    frame = make_frames(1)[0]
+    path = tmp_path / f"shot{ext}"
+    write_image(path, frame)
+    with caplog.at_level(logging.WARNING, logger="tir_contact"), open_footage(path) as r:
+        assert isinstance(r, ImageFileReader) and len(r) == 1
+        got = next(iter(r))
+    assert got.shape == frame.shape
+    if ext != ".jpg":  # lossless
+        assert_array_equal(got, frame)
+    assert "header says" not in caplog.text
+    # an image under a video's name: no count in its header, so none claimed lost
+    disguised = tmp_path / "shot.avi"
+    disguised.write_bytes(path.read_bytes())
+    try:
+        reader = VideoFileReader(disguised)
+    except FootageError:
+        return  # this OpenCV build does not open it at all: an error, which is fine
+    with reader:
+        assert reader.lost_frames == () and "-9223372036854775808" not in caplog.text
 
 
 def test_empty_folder_names_the_subfolder_that_holds_the_frames(tmp_path):

@@ -66,6 +66,7 @@ __all__ = [
     "FootageError",
     "FootageReader",
     "FrameFolderReader",
+    "ImageFileReader",
     "MrawReader",
     "MultiPageTiffReader",
     "VideoFileReader",
@@ -782,6 +783,8 @@ class VideoFileReader(_StoredFormat):
         self._frame_rate = float(fps) if fps and np.isfinite(fps) and fps > 0 else None
         claimed = int(cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
         self._length = self._verified_count(claimed)
+        if claimed < 1:  # no count in the header (OpenCV gives 0 or INT64_MIN): none lost
+            claimed = self._length
         if 1 < self._length < claimed:
             # cut short: the frames past the last decodable are lost, and so is the last
             # one that decodes, which may be cut too: a decoder conceals a frame's missing
@@ -1096,6 +1099,35 @@ class CineReader(_StoredFormat):
             os.close(fd)
 
 
+class ImageFileReader(_StoredFormat):
+    """A single PNG, BMP or JPEG image: a 1-frame video (as a single-page TIFF is).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The image file.
+
+    Notes
+    -----
+    A static test photographed once, or one frame taken out of a clip. The frame rate is
+    unknown (None); its number is 0.
+    """
+
+    kind = "image"
+    suffixes = (".png", ".bmp", ".jpg", ".jpeg")
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        super().__init__(path)
+        file = Path(path)
+        if not file.is_file():
+            raise FootageError(f"{file}: not a file", file)
+        self._set_format(decode_image_file(file))
+        self._length = 1
+
+    def _read(self, index: int) -> np.ndarray:
+        return decode_image_file(Path(self.path))
+
+
 _REGISTRY: dict[str, type[FootageReader]] = {}
 
 
@@ -1163,8 +1195,8 @@ class _ReaderTable(Sequence[type[FootageReader]]):
         return f"READERS{readers()!r}"
 
 
-for _reader in (FrameFolderReader, MultiPageTiffReader, VideoFileReader, MrawReader,
-                CineReader):
+for _reader in (FrameFolderReader, MultiPageTiffReader, ImageFileReader, VideoFileReader,
+                MrawReader, CineReader):
     register_reader(_reader)
 
 #: Reader classes in the order :func:`open_footage` tries them: a live view of the registry
@@ -1178,9 +1210,10 @@ def open_footage(path: str | os.PathLike[str], *, kind: str | None = None) -> Fo
     Parameters
     ----------
     path : str or os.PathLike
-        A folder of frames, a ``.tif``/``.tiff`` stack, a video (``.avi``, ``.mp4``,
+        A folder of frames, a ``.tif``/``.tiff`` stack, a single ``.png``/``.bmp``/``.jpg``
+        image (a 1-frame video), a video (``.avi``, ``.mp4``,
         ``.mov``, ``.mkv``), a Photron ``.mraw``/``.cihx``/``.cih`` or a Phantom ``.cine``.
-    kind : {"folder", "tiff", "video", "mraw", "cine"} or a registered kind, optional
+    kind : {"folder", "tiff", "image", "video", "mraw", "cine"} or a registered kind, optional
         Force a reader instead of choosing by file type.
 
     Returns
