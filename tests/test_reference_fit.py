@@ -82,6 +82,24 @@ def test_fitted_reference_gives_the_true_area(clip, tmp_path, shift_px):
     assert not any("does not fit" in w for w in result.summary["warnings"])
 
 
+def test_the_camera_mode_stays_the_scenes_own_with_a_reference(clip, tmp_path):
+    # a static scene with its empty frame: "follows" (nothing passes), as without the
+    # reference, and what --camera says; before, a reference made every scene "fixed" and
+    # overrode --camera follows without a word. The measurement is the one it was: with
+    # the free surface measured, the static scene's threshold floor and texture do not
+    # apply under either mode (the areas of all three runs were checked equal to the bit
+    # against the code before the change); the user's "fixed" differs only by how the
+    # shifted reference's uncovered border strip is filled (from the footage's own estimate)
+    folder, _ = clip
+    ref = str(_empty_frame(_spec(), (6.0, -4.0), tmp_path / "empty.png"))
+    runs = {cam: analyze_video(folder, options=AnalysisOptions(reference=ref, camera=cam))
+            for cam in ("auto", "follows", "fixed")}
+    assert analyze_video(folder).summary["camera"] == "follows"
+    assert [runs[c].summary["camera"] for c in runs] == ["follows", "follows", "fixed"]
+    np.testing.assert_array_equal(runs["follows"].frames["contact_area_mm2"],
+                                  runs["auto"].frames["contact_area_mm2"])
+
+
 def test_reference_of_another_scene_is_reported_and_not_used(clip, tmp_path):
     folder, _ = clip
     ref = _empty_frame(_spec("band"), (3.0, 2.0), tmp_path / "band.png")

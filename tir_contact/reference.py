@@ -1107,7 +1107,8 @@ def tir_reference(
     lit : LitZone, optional
         The lit zone (e.g. from a user's mask file).
     image : (M, N) ndarray, optional
-        A free-surface image given by the user: used as it is (mode ``"fixed"``).
+        A free-surface image given by the user: used as it is (mode `camera`, ``"fixed"``
+        when ``"auto"``).
     min_darkness : float
         Darkness that surely is contact (camera-mode test and slow-block test).
     min_block_fraction : float
@@ -1136,7 +1137,10 @@ def tir_reference(
     residuals: list[np.ndarray] | None = None  # the noise model's, once made
     if image is not None:
         free = np.asarray(image, np.float32)
-        mode, method, cand = "fixed", "file", np.zeros(shape, bool)
+        # a measured free surface does not say how the camera moves: the mode given (the
+        # analysis passes the one its own estimate decided), "fixed" when left to auto
+        mode = camera if camera in CAMERA_MODES else "fixed"
+        method, cand = "file", np.zeros(shape, bool)
     else:
         mode = camera
         if mode == "auto":

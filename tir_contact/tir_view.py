@@ -124,7 +124,7 @@ class TirView:
         contrast = options.contrast
         if contrast is None:
             contrast = _contrast(samples, tref, contact_is, options)
-        threshold = _threshold(contrast, options, tref.camera)
+        threshold = _threshold(contrast, options, "follows" if _static(tref) else "fixed")
         # pixels too noisy for the threshold are not measured; the darkness noise of the
         # free surface is the same map for every cut and model below
         whole = tref
@@ -373,7 +373,7 @@ def _may_fill_zone(tref: TirReference, model: AreaModel) -> bool:
     as a dim free surface or as the outside: in the frames that show no contact, the error
     bar's high end is the whole lit zone found (:meth:`TirFrames.extra_columns`), and
     :meth:`TirView.warnings` says so."""
-    return tref.camera == "follows" and tref.lit.method != "file" and model.junction_field
+    return _static(tref) and tref.lit.method != "file" and model.junction_field
 
 
 def _union(a: tuple[slice, slice] | None, b: tuple[slice, slice] | None,
@@ -450,7 +450,7 @@ def _area_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
         sigma = tref.noise.sigma_darkness(tref.reference.image)
     return area_model(darkness, sigma, contrast=options.contrast,
                       min_cluster_px=options.min_area_px,
-                      static=tref.camera == "follows", zone_sigma=tref.texture_sigma,
+                      static=_static(tref), zone_sigma=tref.texture_sigma,
                       zone_corr_px=tref.texture_corr_px, rim=_rim_band(tref.lit),
                       bright=contact_is == "bright", optics=optics,
                       free_measured=tref.free_measured)
@@ -526,6 +526,14 @@ def _threshold(contrast: float | None, options: AnalysisOptions, camera: str) ->
     return max(0.5 * contrast, floor)
 
 
+def _static(tref: TirReference) -> bool:
+    """Whether the free surface under a static scene was estimated (nothing passed the
+    camera and no reference image measured it): the static threshold floor and the
+    estimate's texture then apply. A fitted ``--reference`` measures it, whatever the
+    camera mode."""
+    return tref.camera == "follows" and not tref.free_measured
+
+
 def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
                    options: AnalysisOptions
                    ) -> tuple[TirReference, ReferenceFit | None, list[str]]:
@@ -559,7 +567,7 @@ def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is
                                       "did not fit)")
             return own, fit, [note]
         image = _covered_reference(fit, own)
-        tref = tir_reference(samples, camera=options.camera, lit=own.lit, image=image,
+        tref = tir_reference(samples, camera=own.camera, lit=own.lit, image=image,
                              **kwargs)
         method = (f"file, fitted: gain {fit.gain:.3f}, shift ({fit.shift_px[0]:+.2f}, "
                   f"{fit.shift_px[1]:+.2f}) px")
