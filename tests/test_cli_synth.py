@@ -314,6 +314,33 @@ def test_footage_run_builds_the_spec_and_renders(run_cli, monkeypatch, tmp_path,
     assert capsys.readouterr().out.startswith("footage: rendered 400 frames")
 
 
+@pytest.mark.parametrize(("extra", "fmt", "quality"), [
+    (["--format", "jpg"], "jpg", 90),  # before: exit 1, "camera.jpeg_quality must be set"
+    (["--jpeg-quality", "70"], "jpg", 70),
+    (["--format", "jpg", "--jpeg-quality", "70"], "jpg", 70),
+    (["--format", "multitiff"], "multitiff", None),
+    ([], "png", None),
+])
+def test_footage_format_and_jpeg_quality(run_cli, monkeypatch, tmp_path, extra, fmt, quality):
+    calls = []
+    monkeypatch.setattr("synthetic.footage.render_footage",
+                        lambda spec, out, *, fmt="png", progress=None:
+                        calls.append((spec, fmt)) or Path(out))
+    assert run_cli(["synth", "footage", "--out", str(tmp_path / "f"), *extra]) == 0
+    ((spec, got),) = calls
+    assert (got, spec.camera.jpeg_quality) == (fmt, quality)
+
+
+def test_footage_jpeg_quality_with_another_format_is_a_usage_error(run_cli, tmp_path, capsys):
+    # before: rendered as JPEG frames, the --format multitiff dropped without a word
+    argv = ["synth", "footage", "--out", str(tmp_path / "f"), "--format", "multitiff",
+            "--jpeg-quality", "80"]
+    assert run_cli(argv) == 2
+    err = capsys.readouterr().err
+    assert "--jpeg-quality 80" in err and "--format multitiff" in err
+    assert not (tmp_path / "f").exists()
+
+
 def test_footage_without_renderer_fails_with_a_message(run_cli, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "synthetic.footage", None)  # import raises ImportError
     assert run_cli(["synth", "footage", "--out", "d"]) == 1

@@ -45,6 +45,9 @@ DESCRIPTION = (
 
 _KINDS = ("steady", "transient", "raw")
 _FORMATS = ("png", "jpg", "tiff", "avi", "multitiff")
+#: JPEG quality of ``--format jpg`` without ``--jpeg-quality``: compressed visibly but not
+#: coarsely (OpenCV's own default is 95, Pillow's 75).
+DEFAULT_JPEG_QUALITY = 90
 # CLI option dest -> CameraSettings field of synthetic.footage
 _CAMERA_FIELDS = {
     "fps": "fps",
@@ -169,7 +172,8 @@ def _add_footage(sub: Any) -> None:
     p.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     p.add_argument("--out", type=output_folder, required=True, metavar="DIR",
                    help="output folder")
-    p.add_argument("--format", choices=_FORMATS, default="png", help="output format (default png)")
+    p.add_argument("--format", choices=_FORMATS, default=None,
+                   help="output format (default png; jpg with --jpeg-quality)")
     p.add_argument("--empty-frame", action="store_true",
                    help="also write OUT/empty.png, the rig's own empty frame of a static scene "
                    "(three_point, rough_pad, rough_sphere: the same light and ice without "
@@ -198,7 +202,8 @@ def _add_footage(sub: Any) -> None:
     real.add_argument("--lit-rim", type=_non_negative, metavar="MM",
                       help="width of the lit zone's soft rim, mm")
     real.add_argument("--jpeg-quality", type=_positive_int, metavar="Q",
-                      help="JPEG-compress the frames (8 bit; 1-100)")
+                      help="JPEG-compress the frames (8 bit; 1-100; default "
+                           f"{DEFAULT_JPEG_QUALITY} with --format jpg)")
     real.add_argument("--scene",
                       choices=("block", "round_pad", "coin", "three_point", "rough_pad",
                                "rough_sphere"),
@@ -353,9 +358,24 @@ def footage_kwargs(args: argparse.Namespace) -> tuple[dict[str, Any], dict[str, 
     return camera, spec
 
 
+def _footage_format(args: argparse.Namespace) -> str:
+    """The file format of ``--format`` and ``--jpeg-quality`` together (a quality without
+    a format is JPEG; JPEG without a quality takes :data:`DEFAULT_JPEG_QUALITY`); sets
+    ``args.jpeg_quality`` for it. A quality with another format is a usage error."""
+    if args.jpeg_quality is not None:
+        if args.format not in (None, "jpg"):
+            raise UsageError(f"--jpeg-quality {args.jpeg_quality}: JPEG frames, but --format "
+                             f"{args.format} asks for another format; drop one of them")
+        return "jpg"
+    if args.format == "jpg":
+        args.jpeg_quality = DEFAULT_JPEG_QUALITY
+    return args.format or "png"
+
+
 def _run_footage(args: argparse.Namespace) -> int:
     """Render the footage; a renderer that cannot be imported or rejects the options is
     raised (exit code 1)."""
+    fmt = _footage_format(args)
     try:
         from synthetic.footage import CameraSettings, FootageSpec, render_footage
         from synthetic.table import EMPTY_REFERENCE_SCENES, empty_reference
@@ -366,7 +386,6 @@ def _run_footage(args: argparse.Namespace) -> int:
     if args.empty_frame and spec.scene not in EMPTY_REFERENCE_SCENES:
         raise UsageError(f"--empty-frame needs a static scene "
                          f"({', '.join(EMPTY_REFERENCE_SCENES)}), got --scene {spec.scene}")
-    fmt = "jpg" if args.jpeg_quality is not None else args.format
     path = render_footage(spec, args.out, fmt=fmt)
     what = args.preset if spec.scene == "block" else f"the {spec.scene} scene"
     print(f"footage: rendered {spec.n_frames} frames ({fmt}) of {what} to {path}")
