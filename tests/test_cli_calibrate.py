@@ -278,6 +278,25 @@ def test_calibrate_a_characteristic_of_two_blocks_needs_select(run_cli, tmp_path
     assert read_parameters(out)["friction_law"]["n_points"] == len(table)
 
 
+def test_simulate_says_what_it_extrapolates_and_leaves_unused(run_cli, tmp_path, capsys):
+    # a law fitted on 0.5-8 m/s, no element section: mu at 0.1 and 20 m/s is said to be
+    # extrapolated, and a velocity step with nothing to apply it to is said unused (both
+    # were written or dropped without a word)
+    char = make_characteristic(tmp_path / "steady.csv", seed=3)
+    out = tmp_path / "p.json"
+    assert run_cli(["calibrate", "--characteristic", str(char), "--law", "DecreasingSqrtLaw",
+                    "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert run_cli(["simulate", "--params", out, "--out", tmp_path / "s", "--no-plots",
+                    "--velocity", "0.1", "1", "20", "--velocity-step", "1,3"]) == 0
+    text = capsys.readouterr().out
+    assert "extrapolated: mu at 0.1, 20 m/s" in text and "(fitted 0.5-8 m/s)" in text
+    assert "--velocity-step not used" in text
+    assert run_cli(["simulate", "--params", out, "--out", tmp_path / "t", "--no-plots",
+                    "--velocity", "0.5", "8"]) == 0
+    assert "extrapolated" not in capsys.readouterr().out
+
+
 def test_simulate_errors(run_cli, tmp_path, capsys):
     assert run_cli(["simulate", "--params", tmp_path / "none.json", "--out", tmp_path]) == 2
     assert "none.json: does not exist" in capsys.readouterr().err

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from tir_contact.commands._types import (
     UsageError,
@@ -80,8 +81,33 @@ def run(args: argparse.Namespace) -> int:
     print(f"simulated {args.params}: wrote {', '.join(written)} to {Path(args.out)}")
     # what the file cannot give, said rather than left out silently
     if result.step_response is None:
+        unused = [flag for flag, value in (("--velocity-step", args.velocity_step),
+                                           ("--normal-force-N", args.normal_force_N))
+                  if value is not None]
         print(f"  no step_response: {args.params} has no 'element' section (calibrate "
-              "identifies the element from side-view footage)")
+              "identifies the element from side-view footage holding a velocity change)"
+              + (f"; {', '.join(unused)} not used" if unused else ""))
     if result.lever_arm is None:
         print(f"  no lever_arm: {args.params} has no 'lever_arm' section")
+    outside = _outside_fit(args.params, args.velocity)
+    if outside:
+        print(f"  extrapolated: mu at {outside}, outside the velocities the law was "
+              "fitted on")
     return 0
+
+
+def _outside_fit(params_path: Any, velocities: Any) -> str:
+    """The asked velocities outside the friction law's fitted ``velocity_range_mps``
+    (with the range), or "" when all lie inside or the file records no range."""
+    from friction_model.params_file import read_parameters
+
+    law = read_parameters(params_path).get("friction_law") or {}
+    span = law.get("velocity_range_mps")
+    if not velocities or not span:
+        return ""
+    lo, hi = float(span[0]), float(span[1])
+    # a velocity written to the file and read back: 1e-9 relative slack at the ends
+    out = [v for v in velocities if v < lo * (1 - 1e-9) or v > hi * (1 + 1e-9)]
+    if not out:
+        return ""
+    return f"{', '.join(f'{v:g}' for v in out)} m/s (fitted {lo:g}-{hi:g} m/s)"
