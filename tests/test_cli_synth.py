@@ -341,6 +341,37 @@ def test_footage_jpeg_quality_with_another_format_is_a_usage_error(run_cli, tmp_
     assert not (tmp_path / "f").exists()
 
 
+@pytest.mark.parametrize(("extra", "named"), [
+    (["--sphere-radius", "3", "--roughness", "rough_ice"], "--sphere-radius, --roughness"),
+    (["--pad-radius", "3"], "--pad-radius"),
+    (["--scene", "round_pad", "--substrate", "glass"], "--substrate"),
+    (["--view", "side", "--gap-medium", "water"], "--gap-medium"),
+    (["--scene", "rough_sphere", "--pad-radius", "3"], "--pad-radius"),
+])
+def test_footage_scene_options_the_scene_does_not_use_are_usage_errors(
+        run_cli, monkeypatch, tmp_path, extra, named, capsys):
+    # before: accepted, the frames byte-identical to the default render, and meta.json
+    # recording them as if they had shaped it
+    calls = []
+    monkeypatch.setattr("synthetic.footage.render_footage",
+                        lambda spec, out, **kw: calls.append(spec) or Path(out))
+    assert run_cli(["synth", "footage", "--out", str(tmp_path / "f"), *extra]) == 2
+    assert f"{named} not used by --scene" in capsys.readouterr().err and not calls
+
+
+@pytest.mark.parametrize("extra", [
+    ["--scene", "rough_sphere", "--sphere-radius", "3", "--roughness", "rough_ice"],
+    ["--scene", "round_pad", "--pad-radius", "3"],
+    ["--real-contact", "physical", "--substrate", "glass", "--gap-medium", "air"],
+])
+def test_footage_scene_options_the_scene_uses_pass(run_cli, monkeypatch, tmp_path, extra):
+    calls = []
+    monkeypatch.setattr("synthetic.footage.render_footage",
+                        lambda spec, out, **kw: calls.append(spec) or Path(out))
+    assert run_cli(["synth", "footage", "--out", str(tmp_path / "f"), *extra]) == 0
+    assert len(calls) == 1
+
+
 def test_footage_without_renderer_fails_with_a_message(run_cli, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "synthetic.footage", None)  # import raises ImportError
     assert run_cli(["synth", "footage", "--out", "d"]) == 1

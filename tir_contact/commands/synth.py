@@ -358,6 +358,25 @@ def footage_kwargs(args: argparse.Namespace) -> tuple[dict[str, Any], dict[str, 
     return camera, spec
 
 
+#: Scene options and where the renderer uses them: the scenes, and for the physical
+#: contact's options a TIR view of a physical scene or of ``--real-contact physical``.
+_SCENE_OPTIONS = {"pad_radius": ("round_pad", "rough_pad"), "sphere_radius": ("rough_sphere",)}
+_PHYSICAL_OPTIONS = ("roughness", "substrate", "gap_medium")
+_PHYSICAL_SCENES = ("rough_pad", "rough_sphere")
+
+
+def _unused_scene_options(args: argparse.Namespace, spec: Any) -> list[str]:
+    """The scene options given that the spec's scene does not use (they would be
+    recorded in ``meta.json`` as if they had shaped the render)."""
+    physical = spec.view == "tir" and (spec.scene in _PHYSICAL_SCENES
+                                       or spec.real_contact == "physical")
+    unused = [dest for dest, scenes in _SCENE_OPTIONS.items()
+              if getattr(args, dest) is not None and spec.scene not in scenes]
+    if not physical:
+        unused += [dest for dest in _PHYSICAL_OPTIONS if getattr(args, dest) is not None]
+    return ["--" + dest.replace("_", "-") for dest in unused]
+
+
 def _footage_format(args: argparse.Namespace) -> str:
     """The file format of ``--format`` and ``--jpeg-quality`` together (a quality without
     a format is JPEG; JPEG without a quality takes :data:`DEFAULT_JPEG_QUALITY`); sets
@@ -383,6 +402,10 @@ def _run_footage(args: argparse.Namespace) -> int:
         raise ImportError(f"the renderer synthetic.footage is not available ({exc})") from exc
     camera, spec_kwargs = footage_kwargs(args)
     spec = FootageSpec(**spec_kwargs, camera=CameraSettings(**camera))
+    unused = _unused_scene_options(args, spec)
+    if unused:
+        raise UsageError(f"{', '.join(unused)} not used by --scene {spec.scene} "
+                         f"(--view {spec.view}, --real-contact {spec.real_contact})")
     if args.empty_frame and spec.scene not in EMPTY_REFERENCE_SCENES:
         raise UsageError(f"--empty-frame needs a static scene "
                          f"({', '.join(EMPTY_REFERENCE_SCENES)}), got --scene {spec.scene}")
