@@ -121,3 +121,13 @@ def test_empty_folder_fails(run_cli, tmp_path, capsys):
     (tmp_path / "empty").mkdir()
     assert run_cli(["evaluate", tmp_path / "empty", "--out", tmp_path / "o"]) == 1
     assert "folder contains no *.csv files" in capsys.readouterr().err
+
+
+def test_a_path_that_does_not_exist_is_a_usage_error(run_cli, tmp_path, capsys):
+    # as analyze: exit 2 naming the path, nothing written (before: exit 1 and a full
+    # output folder of empty tables and a report)
+    runs = make_folder(tmp_path / "runs")
+    out = tmp_path / "out"
+    assert run_cli(["evaluate", runs, tmp_path / "nope", "--out", out]) == 2
+    assert f"{tmp_path / 'nope'}: does not exist" in capsys.readouterr().err
+    assert not out.exists()

@@ -17,8 +17,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
-from tir_contact.commands._types import non_negative_number, output_folder, positive_number
+from tir_contact.commands._types import (
+    UsageError,
+    non_negative_number,
+    output_folder,
+    positive_number,
+)
 
 __all__ = ["DESCRIPTION", "add_arguments", "run"]
 
@@ -75,6 +81,9 @@ def run(args: argparse.Namespace) -> int:
     # the evaluation is imported when the command runs: 'tir-contact evaluate --help' stays fast
     from friction_model.rig import InstationaryParams, evaluate_folder
 
+    missing = [str(path) for path in args.paths if not Path(path).exists()]
+    if missing:  # as analyze: a usage error before any output is written
+        raise UsageError(f"{', '.join(missing)}: does not exist")
     result = evaluate_folder(
         args.paths,
         args.out,
