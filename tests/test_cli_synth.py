@@ -218,7 +218,7 @@ FOOTAGE_ARGS = [
     "40", "--seed", "9", "--out", "frames", "--fps", "5000", "--exposure", "1e-4",
     "--mm-per-px", "0.05", "--width", "320", "--height", "200", "--bit-depth", "12", "--gain",
     "0.8", "--read-noise", "3", "--rotation", "1.5", "--pressure", "2.5", "--temperature",
-    "-4", "--humidity", "70", "--salinity", "0.05", "--sliding-direction", "+x",
+    "-4", "--humidity", "70", "--salinity", "0.05", "--sliding-direction", "right",
     "--contact-is", "bright", "--format", "tiff",
 ]  # fmt: skip
 
@@ -248,7 +248,7 @@ def test_footage_options_map_onto_the_renderer_fields():
         "temperature_C": -4.0,
         "humidity_pct": 70.0,
         "salinity_pct": 0.05,
-        "sliding_direction": "+x",
+        "sliding_direction": "right",
         "contact_is": "bright",
         "seed": 9,
     }
@@ -398,3 +398,16 @@ def test_footage_real_look_options_reach_the_renderer(run_cli, tree_bytes, tmp_p
     assert tree_bytes(out / "frames") == tree_bytes(ref / "frames")
     assert (out / "lit_mask.png").is_file()
     assert lit_mask(spec).mean() == pytest.approx(0.3, abs=0.01)  # the requested share
+
+
+def test_help_states_the_noise_default_the_generator_uses():
+    from synthetic.measurements import DEFAULT_NOISE
+
+    assert synth.HELP_DEFAULT_NOISE == DEFAULT_NOISE
+
+
+def test_footage_sliding_direction_is_left_or_right(capsys):
+    # before: the parser took any text and the renderer refused it later (exit 1, not 2)
+    with pytest.raises(SystemExit) as exc:
+        parser().parse_args(["synth", "footage", "--out", "d", "--sliding-direction", "+x"])
+    assert exc.value.code == 2 and "--sliding-direction" in capsys.readouterr().err

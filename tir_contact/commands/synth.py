@@ -45,6 +45,9 @@ DESCRIPTION = (
 
 _KINDS = ("steady", "transient", "raw")
 _FORMATS = ("png", "jpg", "tiff", "avi", "multitiff")
+#: The default of ``--noise`` as its help states it (:data:`synthetic.measurements.
+#: DEFAULT_NOISE`, not imported for ``--help``; a test holds the two equal).
+HELP_DEFAULT_NOISE = 0.05
 #: JPEG quality of ``--format jpg`` without ``--jpeg-quality``: compressed visibly but not
 #: coarsely (OpenCV's own default is 95, Pillow's 75).
 DEFAULT_JPEG_QUALITY = 90
@@ -162,7 +165,8 @@ def _add_footage(sub: Any) -> None:
         ),
     )
     p.add_argument("--preset", default="G3", help="tread-block preset, e.g. G0, G3 (default G3)")
-    p.add_argument("--view", default="tir", help="camera view (default tir)")
+    p.add_argument("--view", default="tir", choices=("tir", "side"),
+                   help="camera view: tir (contact through the prism) or side (default tir)")
     p.add_argument(
         "--velocity", type=_positive, default=1.0, metavar="MPS", help="sliding velocity, m/s"
     )
@@ -227,9 +231,11 @@ def _add_footage(sub: Any) -> None:
     cond.add_argument("--humidity", type=_non_negative, metavar="PCT", help="rel. humidity, %%")
     cond.add_argument("--salinity", type=_non_negative, metavar="PCT", help="salinity, %%")
     cond.add_argument(
-        "--sliding-direction", metavar="DIR", help="sliding direction (renderer's values)"
+        "--sliding-direction", choices=("left", "right"),
+        help="direction the block slides in the image (default left)"
     )
-    cond.add_argument("--contact-is", metavar="LOOK", help="how contact looks, e.g. bright or dark")
+    cond.add_argument("--contact-is", choices=("dark", "bright"),
+                      help="how contact looks (default dark)")
 
 
 def _add_physical(p: argparse.ArgumentParser) -> None:
@@ -274,7 +280,8 @@ def _add_measurements(sub: Any) -> None:
         type=_effect,
         default=[],
         metavar="NAME[=X]",
-        help="switch an effect on (repeatable; none: the base model); =X sets its strength",
+        help="switch an effect on (repeatable; none: the base model); =X sets its strength; "
+        "a wrong name lists the valid ones",
     )
     p.add_argument(
         "--strength",
@@ -289,7 +296,7 @@ def _add_measurements(sub: Any) -> None:
         type=_non_negative,
         default=None,
         metavar="SIGMA",
-        help="relative noise, e.g. 0.05 = 5 %% (default: synthetic.measurements.DEFAULT_NOISE)",
+        help=f"relative noise, e.g. 0.05 = 5 %% (default {HELP_DEFAULT_NOISE:g})",
     )
     p.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     p.add_argument("--reveal", action="store_true", help="also write OUT.truth.json")
