@@ -299,6 +299,12 @@ def test_resume_skips_current_results_and_redoes_changed_ones(clip, tmp_path):
     mm = summary["meta"]["mm_per_px"]
     assert is_current(items[0], out, options=contrast, overrides={"mm_per_px": mm})
     assert not is_current(items[0], out, options=contrast, overrides={"mm_per_px": 2 * mm})
+    # results made under an override that is dropped now: not current either
+    fifth = analyze_batch(items, out, options=contrast, overrides={"mm_per_px": 2 * mm},
+                          workers=1, progress=False, resume=True)
+    assert [v.status for v in fifth.videos] == ["done"]
+    assert is_current(items[0], out, options=contrast, overrides={"mm_per_px": 2 * mm})
+    assert not is_current(items[0], out, options=contrast)
 
 
 def test_a_failure_while_writing_keeps_the_old_result(clip, tmp_path, monkeypatch):

@@ -282,7 +282,8 @@ def test_empty_folder_names_the_subfolder_that_holds_the_frames(tmp_path):
         open_footage(clip)
     message = str(err.value)
     assert "sub-folder frames:" in message and "notes" not in message
-    assert '"frame_pattern": "frames/<file name>"' in message
+    # the pattern of the frames' own names (write_folder's f0.png, f1.png, ...)
+    assert '"frame_pattern": "frames/f{frame}.png"' in message
     (clip / "meta.json").write_text(json.dumps({"frame_pattern": "frames/f{frame:03d}.png"}))
     assert len(FrameFolderReader(clip_footage(clip))) == 3
     # without meta.json the hint is to give the sub-folder itself

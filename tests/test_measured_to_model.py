@@ -137,3 +137,9 @@ def test_the_generators_raw_runs_of_two_blocks_go_through_evaluate_to_discrepanc
     assert (table["salinity_pct"] == 0.0).all()
     # the generator's 2.5 bar (its normal force noise is about 1 N of 400 N)
     assert np.allclose(table["pressure_bar"], 2.5, rtol=0.01)
+    # without the recorded pressure: each row's force over its own specimen's nominal area
+    # (every reference block has 1600 mm2, so this checks the path, which refused a file
+    # of two specimens before, not a difference between the areas)
+    rows.drop(columns="normal_pressure_Pa").to_csv(tmp_path / "no_p.csv", index=False)
+    forced = read_steady_table(tmp_path / "no_p.csv")
+    assert np.allclose(forced["pressure_bar"], table["pressure_bar"], rtol=1e-9)

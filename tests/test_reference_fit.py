@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 from pathlib import Path
 
 import cv2
@@ -98,6 +99,27 @@ def test_the_camera_mode_stays_the_scenes_own_with_a_reference(clip, tmp_path):
     assert [runs[c].summary["camera"] for c in runs] == ["follows", "follows", "fixed"]
     np.testing.assert_array_equal(runs["follows"].frames["contact_area_mm2"],
                                   runs["auto"].frames["contact_area_mm2"])
+
+
+def test_resume_compares_the_reference_file_not_its_spelling(clip, tmp_path, monkeypatch):
+    # the same empty frame named another way is the same input; the file rewritten is not
+    # (before: the option's text was compared, and a rewritten reference kept old numbers)
+    from tir_contact.batch import analyze_batch, find_footage, is_current
+
+    folder, _ = clip
+    ref = _empty_frame(_spec(), (6.0, -4.0), tmp_path / "empty.png")
+    items = find_footage([folder])
+    out = tmp_path / "out"
+    options = AnalysisOptions(reference=str(ref), plots=False, overlay_video=False,
+                              overlay_frames=0, parquet=False)
+    assert analyze_batch(items, out, options=options, workers=1, progress=False).ok
+    monkeypatch.chdir(tmp_path)
+    for spelling in ("empty.png", "./empty.png", str(ref)):
+        assert is_current(items[0], out,
+                          options=dataclasses.replace(options, reference=spelling)), spelling
+    _empty_frame(_spec(), (5.0, -4.0), ref)  # another empty frame under the same name
+    os.utime(ref, ns=(ref.stat().st_atime_ns, ref.stat().st_mtime_ns + 10**9))
+    assert not is_current(items[0], out, options=options)
 
 
 def test_reference_of_another_scene_is_reported_and_not_used(clip, tmp_path):

@@ -48,16 +48,16 @@ METRICS = ["area_err_pct", "outside_lit_pct", "beyond_rim_pct", "length_err_mm",
 # 0.5 deg)
 TOL = {"area_err_pct": 0.3, "outside_lit_pct": 0.3, "beyond_rim_pct": 0.3,
        "length_err_mm": 0.01, "angle_err_deg": 0.05}
-#: ... and a length error may move by up to half a pixel of its clip besides: each
-#: element's length runs between two edges interpolated where the darkness crosses half
-#: its run's median, and where that profile is flat (an element partly lit, the high mode
-#: of 0.2-1.2 mm errors) another float path can move a crossing by a fraction of a pixel,
-#: its median by as much. Seen at stop 55: on an AMD EPYC without AVX-512, clip 3 (a
-#: passing G-block, 0.103 mm/px, 58 element-frames) read 0.3087 mm against the frozen
-#: 0.3371 (0.28 px), at every commit back to the one that froze it and at the newest and
-#: the lowest package versions alike, while 1 DN of noise on 1 % of its pixels moved it
-#: by under 0.0001 mm; the other 20 clips and metrics agreed within 5e-5.
-LENGTH_TOL_PX = 0.5
+#: Outcomes known to differ between machines, by (clip, metric): the value this machine
+#: kind gives instead of the frozen one, held to the same tolerance. Clip 3 (a passing G
+#: block, 0.103 mm/px, 58 element-frames) reads a length-error median of 0.3087 mm on an
+#: AMD EPYC without AVX-512 (stop 55) against the frozen 0.3371 (0.28 px), at every commit
+#: back to the one that froze it and at the newest and the lowest package versions alike;
+#: 1 DN of noise on 1 % of its pixels moves it by under 0.0001 mm, so it is a discrete
+#: branch taken otherwise on the other CPU, not a drift (not found which); the other 20
+#: clips and every other metric agree within 5e-5. Named here rather than loosening the
+#: 0.01 mm for every clip.
+OTHER_MACHINE = {(3, "length_err_mm"): 0.308729}
 
 
 def readme_text() -> str:
@@ -166,8 +166,7 @@ def subset_table():
                              [draws[i][1] for i in chosen], chosen))
     import pandas as pd
 
-    scale = {i: draws[i][0].camera.mm_per_px for i in chosen}
-    return pd.DataFrame(rows).assign(mm_per_px=lambda t: t["clip"].map(scale))
+    return pd.DataFrame(rows)
 
 
 @pytest.mark.slow
@@ -181,11 +180,10 @@ def test_subset_of_the_published_clips_gives_the_frozen_errors(subset_table, fro
         got, ref = table[m].to_numpy(float), want[m].to_numpy(float)
         assert (np.isnan(got) == np.isnan(ref)).all(), m
         ok = ~np.isnan(ref)
-        tol = np.full(len(table), TOL[m])
-        if m == "length_err_mm":
-            tol = np.maximum(tol, LENGTH_TOL_PX * table["mm_per_px"].to_numpy(float))
-        bad = ok & ~(np.abs(got - ref) <= tol)
-        assert not bad.any(), (m, table.index[bad].tolist(), got[bad], ref[bad], tol[bad])
+        other = np.array([OTHER_MACHINE.get((int(c), m), np.nan) for c in table.index])
+        near = (np.abs(got - ref) <= TOL[m]) | (np.abs(got - other) <= TOL[m])
+        bad = ok & ~near
+        assert not bad.any(), (m, table.index[bad].tolist(), got[bad], ref[bad])
     # the subset on its own meets the README's area and angle targets
     summary = dv.summarise(subset_table).set_index("case")
     assert summary.loc["all", "area_err_pct median"] <= README_TARGETS["area_err_pct median"]

@@ -41,9 +41,16 @@ from tir_contact import _workers
 from tir_contact._outdir import remove_stale_temporaries
 from tir_contact._readers import FootageError, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
-from tir_contact.meta import META_FILENAME, clip_footage, option_flag
+from tir_contact.meta import META_FILENAME, clip_footage, load_meta
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
-from tir_contact.prepare import IMAGE_SUFFIXES, _images_in, footage_fingerprint, resolve_footage
+from tir_contact.prepare import (
+    IMAGE_SUFFIXES,
+    INPUT_FILE_OPTIONS,
+    _images_in,
+    footage_fingerprint,
+    input_files,
+    resolve_footage,
+)
 from tir_contact.report import write_report
 
 logger = logging.getLogger(__name__)
@@ -260,8 +267,10 @@ def is_current(footage: Footage, out: Path, *, options: AnalysisOptions | None =
     """True when ``out/<name>`` holds complete results of this footage as it is now.
 
     With `options` (and `overrides`, the command line's metadata values), the results must
-    also have been made with the same analysis options and metadata values: ``--resume``
-    after ``--contrast 0.5`` was added reanalyses, it does not keep the old numbers.
+    also have been made with the same analysis options (the same ``--reference`` and
+    ``--lit-mask`` files, however their paths are spelled) and the same metadata, that of
+    ``meta.json`` with these overrides: ``--resume`` after ``--contrast 0.5`` was added, or
+    after an ``--mm-per-px`` was dropped, reanalyses; it does not keep the old numbers.
     """
     folder = out / footage.name
     if not all((folder / f).is_file() for f in RESULT_FILES):
@@ -278,35 +287,49 @@ def is_current(footage: Footage, out: Path, *, options: AnalysisOptions | None =
                and not summary.get("lost_frames"))
     if not current or options is None:
         return current
-    changed = _changed_settings(summary, options, overrides)
+    changed = _changed_settings(footage, summary, options, overrides)
     if changed:
         logger.info("%s: results made with other %s; analysed again", footage.path,
                     ", ".join(changed))
     return not changed
 
 
-def _changed_settings(summary: Mapping[str, Any], options: AnalysisOptions,
+def _changed_settings(footage: Footage, summary: Mapping[str, Any], options: AnalysisOptions,
                       overrides: Mapping[str, Any] | None) -> list[str]:
-    """The options and metadata values of this run that differ from those ``summary.json``
-    recorded (option names as on the command line)."""
+    """What of this run differs from what ``summary.json`` recorded: analysis options (by
+    field name; a file option by the file itself, resolved path, size and time), and the
+    metadata this run would use (``meta.json`` with these overrides: an override given
+    then and dropped now counts too)."""
     stored = summary.get("options") or {}
-    now = json_safe(asdict(options))
-    changed = [option_flag(k) for k, v in now.items() if stored.get(k, v) != v]
-    meta = summary.get("meta") or {}
-    for key, value in (overrides or {}).items():
-        if value is None:  # not given
-            continue
-        node: Any = meta
-        for part in key.split("."):
-            node = node.get(part) if isinstance(node, dict) else None
-        if not _same(node, json_safe(value)):
-            changed.append(option_flag(key))
+    files_then = summary.get("input_files")
+    files_now = input_files(options)
+    changed = []
+    for key, value in json_safe(asdict(options)).items():
+        if key in INPUT_FILE_OPTIONS and files_then is not None:
+            differs = files_then.get(key) != files_now.get(key)
+        else:
+            differs = stored.get(key, value) != value
+        if differs:
+            changed.append(f"option {key}")
+    meta_then = summary.get("meta") or {}
+    try:
+        meta_now = json_safe(load_meta(footage.path, overrides, frame_rate=meta_then.get("fps")))
+    except (FootageError, ValueError, OSError):
+        return [*changed, "metadata (it cannot be read now)"]
+    changed += [f"metadata {key}" for key in sorted(set(meta_then) | set(meta_now))
+                if not _same(meta_then.get(key), meta_now.get(key))]
     return changed
 
 
 def _same(a: Any, b: Any) -> bool:
-    """Equal, numbers to a relative 1e-9 (a value written to JSON and read back)."""
-    if isinstance(a, int | float) and isinstance(b, int | float) and not isinstance(a, bool):
+    """Equal, numbers to a relative 1e-9 (a value written to JSON and read back), dicts and
+    lists item by item."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return set(a) == set(b) and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    if (isinstance(a, int | float) and isinstance(b, int | float)
+            and not isinstance(a, bool) and not isinstance(b, bool)):
         return math.isclose(float(a), float(b), rel_tol=1e-9, abs_tol=1e-15)
     return a == b
 

@@ -494,14 +494,18 @@ def _subfolder_hint(folder: Path, subfolders: Sequence[str]) -> str:
     """A hint naming the sub-folders of `folder` that hold frames, for the message of a
     frame folder without images (a clip folder whose ``meta.json`` lacks ``frame_pattern``)."""
     with_frames = []
+    example = ""  # the first frame file of the first such sub-folder
     for name in sorted(subfolders, key=natural_key):
         try:
             with os.scandir(folder / name) as entries:
-                if any(os.path.splitext(e.name)[1].lower() in IMAGE_SUFFIXES
-                       and not e.name.startswith(".") for e in entries):
-                    with_frames.append(name)
+                images = sorted((e.name for e in entries
+                                 if os.path.splitext(e.name)[1].lower() in IMAGE_SUFFIXES
+                                 and not e.name.startswith(".")), key=natural_key)
         except OSError:
             continue
+        if images:
+            with_frames.append(name)
+            example = example or images[0]
     if not with_frames:
         return ""
     first = with_frames[0]
@@ -509,11 +513,22 @@ def _subfolder_hint(folder: Path, subfolders: Sequence[str]) -> str:
              f"{', '.join(with_frames)}")
     if (folder / META_FILENAME).is_file():
         return (f"; the frames may be in its {where}: for {folder / META_FILENAME} to name "
-                f"them, add \"frame_pattern\": \"{first}/<file name>\" to it")
+                f"them, add \"frame_pattern\": \"{first}/{_pattern_of(example)}\" to it")
     return f"; the frames may be in its {where}: give {folder / first}, or use --recursive"
 
 
 _LAST_NUMBER = re.compile(r"(\d+)(?!.*\d)")
+
+
+def _pattern_of(name: str) -> str:
+    """A ``frame_pattern`` file part for frame files named like `name`: its last number
+    as the ``{frame}`` field (``frame_000010.png`` -> ``frame_{frame:06d}.png``)."""
+    match = _LAST_NUMBER.search(name)
+    if match is None:
+        return "<file name with {frame}>"
+    width = len(match.group(1))
+    field = f"{{frame:0{width}d}}" if width > 1 else "{frame}"
+    return name[:match.start()] + field + name[match.end():]
 
 
 def _file_numbers(files: Sequence[Path]) -> np.ndarray | None:

@@ -24,7 +24,7 @@ from tir_contact._outdir import replace_folder, staging_folder, temporary_name
 from tir_contact._readers import FootageError
 from tir_contact.features import ELEMENT_FIELDS, FRAME_KEYS, element_records
 from tir_contact.options import AnalysisOptions
-from tir_contact.prepare import VideoSetup, footage_fingerprint
+from tir_contact.prepare import VideoSetup, footage_fingerprint, input_files
 
 __all__ = [
     "ELEMENT_COLUMNS",
@@ -386,6 +386,7 @@ def _summary(path: Path, name: str, setup: VideoSetup, options: AnalysisOptions,
         "meta": setup.meta,
         "options": asdict(options),
         "fingerprint": footage_fingerprint(path),
+        "input_files": input_files(options),
         "frames_per_s": len(frames) / elapsed if elapsed > 0 else None,
         "package_version": __version__,
     }

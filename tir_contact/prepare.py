@@ -7,6 +7,7 @@ and returns a :class:`VideoSetup`, everything the per-frame step
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -27,6 +28,7 @@ from tir_contact.tir_view import TirView
 __all__ = [
     "VideoSetup",
     "footage_fingerprint",
+    "input_files",
     "output_name",
     "prepare_video",
     "resolve_footage",
@@ -98,6 +100,28 @@ def footage_fingerprint(path: str | os.PathLike[str]) -> dict[str, Any]:
         "bytes": int(sum(q.stat().st_size for q in files)),
         "mtime_ns": int(max((q.stat().st_mtime_ns for q in files), default=0)),
     }
+
+
+#: Analysis options that name a file: ``--resume`` compares the file (resolved path, size,
+#: modification time), not the text the option was given as.
+INPUT_FILE_OPTIONS = ("reference", "lit_mask")
+
+
+def input_files(options: AnalysisOptions) -> dict[str, dict[str, Any]]:
+    """The files the analysis options name (``reference``, ``lit_mask``): resolved path,
+    size and modification time of each given one (for ``--resume``)."""
+    out: dict[str, dict[str, Any]] = {}
+    for key in INPUT_FILE_OPTIONS:
+        value = getattr(options, key, None)
+        if not value:
+            continue
+        q = Path(value).resolve()
+        entry: dict[str, Any] = {"path": str(q)}
+        with contextlib.suppress(OSError):
+            st = q.stat()
+            entry.update(bytes=int(st.st_size), mtime_ns=int(st.st_mtime_ns))
+        out[key] = entry
+    return out
 
 
 @dataclass

@@ -366,8 +366,9 @@ class TirFrames:
 
 
 def _may_fill_zone(tref: TirReference, model: AreaModel) -> bool:
-    """A static scene (camera ``follows``; an empty frame given with ``--reference``
-    makes it ``fixed``) with no resolved contact in the sampled frames, its lit zone found
+    """A static scene whose free surface was estimated (:func:`_static`: camera
+    ``follows`` and no fitted ``--reference``) with no resolved contact in the sampled
+    frames, its lit zone found
     in the footage: a contact over the whole lit zone shows no plateau of full contact
     beside free surface either, and its light, a fraction of the free surface's, is read
     as a dim free surface or as the outside: in the frames that show no contact, the error

@@ -237,7 +237,8 @@ def read_characteristic(
     Raises
     ------
     ValueError
-        Missing columns, unknown ``select`` columns or no rows left (naming the file).
+        Missing columns, unknown ``select`` columns, no rows left, or rows of more than one
+        ``specimen`` (naming the file).
     """
     table, src = _read_csv(source)
     evaluation = "mu_mean_method1" in table.columns and "mu" not in table.columns

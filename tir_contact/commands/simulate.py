@@ -85,7 +85,8 @@ def run(args: argparse.Namespace) -> int:
                                            ("--normal-force-N", args.normal_force_N))
                   if value is not None]
         print(f"  no step_response: {args.params} has no 'element' section (calibrate "
-              "identifies the element from side-view footage holding a velocity change)"
+              "identifies the element from side-view footage or --transient tables holding a "
+              "velocity change)"
               + (f"; {', '.join(unused)} not used" if unused else ""))
     if result.lever_arm is None:
         print(f"  no lever_arm: {args.params} has no 'lever_arm' section")
