@@ -225,6 +225,11 @@ def _add_footage(sub: Any) -> None:
                       help="rms light texture of the free surface, fraction (e.g. 0.1)")
     _add_physical(p)
     _add_light_faults(p)
+    _add_conditions(p)
+
+
+def _add_conditions(p: argparse.ArgumentParser) -> None:
+    """Options of the test conditions and of how the block and contact look."""
     cond = p.add_argument_group("conditions (default: the renderer's)")
     cond.add_argument("--pressure", type=_positive, metavar="BAR", help="nominal pressure, bar")
     cond.add_argument("--temperature", type=_number, metavar="C", help="ice temperature, degC")
