@@ -61,6 +61,11 @@ class CalibratedRun:
         The step V1 -> V2 of ``step_response``.
     normal_force_N : float or None
         Normal force on the element.
+    extrapolated_mps : tuple of float
+        The velocities asked for outside the law's fitted ``velocity_range_mps`` (empty
+        when all lie inside, or the file records no range).
+    fitted_range_mps : tuple of float or None
+        That range, m/s.
     """
 
     mu_v: pd.DataFrame | None
@@ -69,6 +74,8 @@ class CalibratedRun:
     law_title: str = ""
     velocity_step_mps: tuple[float, float] | None = None
     normal_force_N: float | None = None
+    extrapolated_mps: tuple[float, ...] = ()
+    fitted_range_mps: tuple[float, float] | None = None
 
     def write(self, out_dir: str | os.PathLike[str], *, plots: bool = True) -> list[str]:
         """Write each table as CSV (and, with `plots`, PNG) into `out_dir` (created).
@@ -256,6 +263,8 @@ def simulate_calibrated(
             v = mu_v["velocity_mps"].to_numpy()
             v_step = velocity_step_mps or (float(v.min()), float(v.max()))
             step = _step_table(params, law, sdof, fn, *v_step)
+    span = (params.get("friction_law") or {}).get("velocity_range_mps")
+    fitted = None if span is None else (float(span[0]), float(span[1]))
     return CalibratedRun(
         mu_v=mu_v,
         step_response=step,
@@ -263,4 +272,17 @@ def simulate_calibrated(
         law_title="" if law is None else f"{type(law).__name__} ({law.equation})",
         velocity_step_mps=v_step,
         normal_force_N=fn,
+        extrapolated_mps=_outside(velocities_mps, fitted),
+        fitted_range_mps=fitted,
     )
+
+
+def _outside(velocities_mps: Sequence[float] | None,
+             fitted: tuple[float, float] | None) -> tuple[float, ...]:
+    """The velocities outside the fitted range (a value written to the file and read
+    back: 1e-9 relative slack at the ends)."""
+    if not velocities_mps or fitted is None:
+        return ()
+    lo, hi = fitted
+    return tuple(float(v) for v in velocities_mps
+                 if v < lo * (1 - 1e-9) or v > hi * (1 + 1e-9))

@@ -1136,11 +1136,12 @@ class ImageFileReader(_StoredFormat):
         file = Path(path)
         if not file.is_file():
             raise FootageError(f"{file}: not a file", file)
-        self._set_format(decode_image_file(file))
+        self._frame = decode_image_file(file)  # decoded once: the video's only frame
+        self._set_format(self._frame)
         self._length = 1
 
     def _read(self, index: int) -> np.ndarray:
-        return decode_image_file(Path(self.path))
+        return self._frame.copy()  # the caller may change it
 
 
 _REGISTRY: dict[str, type[FootageReader]] = {}

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
 
 from tir_contact.commands._types import (
     UsageError,
@@ -90,25 +89,8 @@ def run(args: argparse.Namespace) -> int:
               + (f"; {', '.join(unused)} not used" if unused else ""))
     if result.lever_arm is None:
         print(f"  no lever_arm: {args.params} has no 'lever_arm' section")
-    outside = _outside_fit(args.params, args.velocity)
-    if outside:
-        print(f"  extrapolated: mu at {outside}, outside the velocities the law was "
-              "fitted on")
+    if result.extrapolated_mps:
+        lo, hi = result.fitted_range_mps
+        print(f"  extrapolated: mu at {', '.join(f'{v:g}' for v in result.extrapolated_mps)}"
+              f" m/s (fitted {lo:g}-{hi:g} m/s), outside the velocities the law was fitted on")
     return 0
-
-
-def _outside_fit(params_path: Any, velocities: Any) -> str:
-    """The asked velocities outside the friction law's fitted ``velocity_range_mps``
-    (with the range), or "" when all lie inside or the file records no range."""
-    from friction_model.params_file import read_parameters
-
-    law = read_parameters(params_path).get("friction_law") or {}
-    span = law.get("velocity_range_mps")
-    if not velocities or not span:
-        return ""
-    lo, hi = float(span[0]), float(span[1])
-    # a velocity written to the file and read back: 1e-9 relative slack at the ends
-    out = [v for v in velocities if v < lo * (1 - 1e-9) or v > hi * (1 + 1e-9)]
-    if not out:
-        return ""
-    return f"{', '.join(f'{v:g}' for v in out)} m/s (fitted {lo:g}-{hi:g} m/s)"
