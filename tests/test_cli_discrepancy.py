@@ -74,3 +74,32 @@ def test_bad_input_is_one_line(run_cli, tmp_path, capsys):
     assert code == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "nope.csv" in err[0]
+
+
+@pytest.mark.parametrize(("source", "extra", "refused"), [
+    (["--stick-slip", "1500,1111"], ["--params", "p.json", "--element", "1"],
+     "--params, --element not used with --stick-slip (it takes --out only)"),
+    (["--transient", "t.csv"], ["--params", "p.json"], "--params not used with --transient"),
+    (["--steady", "s.csv"], ["--velocity-step", "1,2", "--step-time", "1"],
+     "--velocity-step, --step-time not used with --steady"),
+    (["--elements", "e.csv"], ["--salinity", "0.1"], "--salinity not used with --elements"),
+])
+def test_an_option_the_source_does_not_use_is_refused(run_cli, tmp_path, capsys, source,
+                                                      extra, refused):
+    # before, each of these ran and ignored the option: a --params given to a transient
+    # table looked applied. Refused before any file is read (none of them exists)
+    code = run_cli(["discrepancy", *source, *extra, "--out", tmp_path / "d"])
+    assert code == 2
+    assert refused in capsys.readouterr().err
+    assert not (tmp_path / "d").exists()
+
+
+def test_effects_help_lists_the_built_in_effects():
+    # the help lists the names without importing the model: held to the model's registry
+    from friction_model import EFFECT_NAMES
+    from tir_contact.commands.discrepancy import BUILT_IN_EFFECTS
+
+    assert BUILT_IN_EFFECTS == EFFECT_NAMES
+    from tir_contact.commands.discrepancy import _OPTIONS, USES
+
+    assert {dest for uses in USES.values() for dest in uses} == set(_OPTIONS)

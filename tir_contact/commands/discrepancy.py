@@ -18,9 +18,12 @@ tables (``time_s, velocity_mps, angle_deg``), pipeline outputs (``elements.csv``
 analyze result folder of side-view footage, with the commanded ``--velocity-step`` and
 ``--step-time``), or a measured and a simulated stick-slip frequency. ``--params`` (from
 ``tir-contact calibrate``) sets the real contact fraction of the dry/wet model from the
-measured contact. Writes ``result.json``, ``report.md`` and PNG plots to DIR and prints the
-verdict in one line. Exit codes: 0 when the workflow ran (whatever the verdict), 1 when the
-data cannot be used, 2 for bad arguments.
+measured contact (steady tables only: the transient and element problems do not evaluate the
+dry/wet model). Writes ``result.json``, ``report.md`` and PNG plots to DIR and prints the
+verdict in one line (``--stick-slip``: ``result.json`` only, and no other option). An option
+the data source does not use is refused (:data:`USES` lists each source's). Exit codes: 0
+when the workflow ran (whatever the verdict), 1 when the data cannot be used, 2 for bad
+arguments.
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from tir_contact.commands._types import (
+    UsageError,
     non_negative_number,
     output_folder,
     positive_int,
@@ -45,6 +49,33 @@ DESCRIPTION = (
     "effects, score them on held-out data and name the missing effect (if any). "
     "Writes result.json, report.md and PNG plots; prints the verdict."
 )
+
+
+#: The effects built into the model (``friction_model.EFFECT_NAMES``, in its order; listed
+#: here so that ``--help`` does not import the model; a test holds the two in step).
+BUILT_IN_EFFECTS = ("humidity_water_layer", "salinity_melting_point", "ice_preheating",
+                    "viscous_shear", "friction_relaxation", "frequency_dependent_modulus")
+
+#: The workflow options' defaults (the options themselves default to None, so that one
+#: given to a data source that does not use it can be told from one left out).
+_DEFAULTS = {"max_effects": 2, "bootstrap": 100, "permutations": 999, "workers": 1,
+             "seed": 0, "element": 0}
+
+_WORKFLOW = ("effects", "max_effects", "bootstrap", "permutations", "workers", "seed")
+_TRANSIENT = (*_WORKFLOW, "step_time", "n_sipes", "pressure_bar")
+
+#: The options each data source uses (``--out`` aside): ``--params`` sets the dry/wet
+#: model's contact fraction, which only the steady problem evaluates; the stick-slip case
+#: is one frequency gap against one candidate, without a workflow.
+USES = {
+    "steady": (*_WORKFLOW, "params", "n_sipes", "pressure_bar", "salinity"),
+    "transient": _TRANSIENT,
+    "elements": (*_TRANSIENT, "velocity_step", "element"),
+    "stick_slip": (),
+}
+#: Every option of :data:`USES`, in the order of ``--help``.
+_OPTIONS = ("params", *_WORKFLOW, "velocity_step", "step_time", "element", "n_sipes",
+            "pressure_bar", "salinity")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -63,21 +94,27 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--params", type=Path, default=None, metavar="JSON",
                    help="parameter file of tir-contact calibrate")
     p.add_argument("--effects", default=None, metavar="NAME,...",
-                   help="candidate effects to try (default: all the data can reveal)")
-    p.add_argument("--max-effects", type=positive_int, default=2,
-                   help="effects to add one after the other (default 2)")
-    p.add_argument("--bootstrap", type=positive_int, default=100,
-                   help="block-bootstrap resamples (default 100)")
-    p.add_argument("--permutations", type=positive_int, default=999,
-                   help="permutations of the rank-correlation tests (default 999)")
-    p.add_argument("--workers", type=positive_int, default=1,
-                   help="processes fitting candidates in parallel (default 1)")
-    p.add_argument("--seed", type=int, default=0, help="random seed")
+                   help="candidate effects to try (default: all the data can reveal); built "
+                   f"in: {', '.join(BUILT_IN_EFFECTS)}; effects registered by an extension "
+                   "too (a wrong name lists them all)")
+    p.add_argument("--max-effects", type=positive_int, default=None,
+                   help=f"effects to add one after the other (default {_DEFAULTS['max_effects']})")
+    p.add_argument("--bootstrap", type=positive_int, default=None,
+                   help=f"block-bootstrap resamples (default {_DEFAULTS['bootstrap']})")
+    p.add_argument("--permutations", type=positive_int, default=None,
+                   help="permutations of the rank-correlation tests (default "
+                   f"{_DEFAULTS['permutations']})")
+    p.add_argument("--workers", type=positive_int, default=None,
+                   help="processes fitting candidates in parallel (default "
+                   f"{_DEFAULTS['workers']})")
+    p.add_argument("--seed", type=int, default=None,
+                   help=f"random seed (default {_DEFAULTS['seed']})")
     p.add_argument("--velocity-step", type=positive_pair, default=None, metavar="V1,V2",
                    help="commanded velocities before/after the step, m/s (--elements)")
     p.add_argument("--step-time", type=positive_number, default=None, metavar="S",
                    help="time of the velocity step, s (--elements; transient: from the table)")
-    p.add_argument("--element", type=int, default=0, help="element of --elements (default 0)")
+    p.add_argument("--element", type=int, default=None,
+                   help=f"element of --elements (default {_DEFAULTS['element']})")
     p.add_argument("--n-sipes", type=int, default=None,
                    help="sipes of the block (transient: default 3; a steady_characteristic.csv: "
                    "default its specimen's reference block)")
@@ -194,14 +231,38 @@ def _run_stick_slip(args: argparse.Namespace) -> int:
     return 0
 
 
+def _source(args: argparse.Namespace) -> str:
+    """The data source given (the parser makes them exclusive and requires one)."""
+    return next(name for name in USES if getattr(args, name) is not None)
+
+
+def _check_options(args: argparse.Namespace) -> None:
+    """Refuse the options the data source does not use (they would be ignored without a
+    word: a ``--params`` given to a transient table would look applied), then fill in the
+    workflow's defaults."""
+    source = _source(args)
+    given = [dest for dest in _OPTIONS if getattr(args, dest) is not None]
+    unused = [dest for dest in given if dest not in USES[source]]
+    if unused:
+        flags = ", ".join("--" + dest.replace("_", "-") for dest in unused)
+        used = ", ".join("--" + dest.replace("_", "-") for dest in USES[source])
+        raise UsageError(f"{flags} not used with --{source.replace('_', '-')} "
+                         + (f"(its options: {used})" if used else "(it takes --out only)"))
+    for dest, value in _DEFAULTS.items():
+        if getattr(args, dest) is None:
+            setattr(args, dest, value)
+
+
 def run(args: argparse.Namespace) -> int:
-    """Run the workflow; returns the exit code (data that cannot be used is raised).
+    """Run the workflow; returns the exit code (data that cannot be used is raised; an
+    option the data source does not use is a usage error).
 
     The model is imported when the command runs: ``tir-contact discrepancy --help`` stays
     fast.
     """
     from friction_model.discrepancy import run_discrepancy, write_result
 
+    _check_options(args)
     if args.stick_slip is not None:
         return _run_stick_slip(args)
     problem = _problem(args)
