@@ -70,3 +70,16 @@ def test_the_same_video_given_twice_is_analysed_once(tmp_path, monkeypatch, capl
     assert caplog.text.count("given more than once") == 2
     both = find_footage(["run1", "b"], recursive=True)
     assert len(both) == 2 and len({f.name for f in both}) == 2
+
+
+def test_videos_of_one_name_take_the_parents_that_tell_them_apart(tmp_path):
+    # x/clip/clip.tif and y/clip/clip.tif: the folder named as the video adds nothing
+    # (before: x__clip__clip, y__clip__clip); a third video of the name one folder deeper
+    for parent in ("x", "y", "z/x"):
+        (tmp_path / parent / "clip").mkdir(parents=True)
+        _stack(tmp_path / parent / "clip" / "clip.tif", 2)
+    found = find_footage([tmp_path / "x" / "clip" / "clip.tif",
+                          tmp_path / "y" / "clip" / "clip.tif"])
+    assert [f.name for f in found] == ["x__clip", "y__clip"]
+    found = find_footage([tmp_path / p / "clip" / "clip.tif" for p in ("x", "y", "z/x")])
+    assert [f.name for f in found] == [f"{tmp_path.name}__x__clip", "y__clip", "z__x__clip"]

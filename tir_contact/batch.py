@@ -182,21 +182,25 @@ def _has_subfolder(folder: Path) -> bool:
 
 
 def _unique_names(items: list[Footage]) -> list[Footage]:
-    """Make result names unique by prefixing parent folder names where they collide."""
-    counts: dict[str, int] = {}
-    for it in items:
-        counts[it.name] = counts.get(it.name, 0) + 1
-    out = []
-    for it in items:
-        if counts[it.name] == 1:
-            out.append(it)
+    """Make result names unique: a name that collides takes the fewest parent folder
+    names that tell its video from the others of that name (``x__clip``, ``y__clip``; a
+    parent named as the video itself, as ``clip/clip.tif``, adds nothing and is passed
+    over); a numbered suffix where even three parents do not."""
+    groups: dict[str, list[int]] = {}
+    for i, it in enumerate(items):
+        groups.setdefault(it.name, []).append(i)
+    names = [it.name for it in items]
+    for name, members in groups.items():
+        if len(members) == 1:
             continue
-        parents = [p.name for p in it.path.parents][:3]
-        name = "__".join(reversed([it.name, *[p for p in parents if p]][:3]))
-        out.append(Footage(it.path, name))
-    names = [o.name for o in out]
-    return [Footage(o.path, o.name if names.count(o.name) == 1 else f"{o.name}__{i}")
-            for i, o in enumerate(out)]
+        parents = [[p.name for p in items[i].path.parents if p.name and p.name != name]
+                   for i in members]
+        for i, own in zip(members, parents, strict=True):
+            depth = next((d for d in range(1, 4)
+                          if sum(ps[:d] == own[:d] for ps in parents) == 1), 3)
+            names[i] = "__".join([*reversed(own[:depth]), name])
+    return [Footage(it.path, n if names.count(n) == 1 else f"{n}__{i}")
+            for i, (it, n) in enumerate(zip(items, names, strict=True))]
 
 
 def find_footage(
