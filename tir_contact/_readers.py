@@ -27,6 +27,7 @@ __all__ = [
     "FootageError",
     "check_pixels",
     "decode_image_file",
+    "is_image_name",
     "one_line",
     "ranges_text",
     "size_text",
@@ -37,6 +38,19 @@ __all__ = [
 
 #: Suffixes (lower case) of the single-image files a frame folder may hold.
 IMAGE_SUFFIXES: tuple[str, ...] = (".tif", ".tiff", ".png", ".bmp", ".jpg", ".jpeg")
+
+
+def is_image_name(name: str) -> bool:
+    """True for the file name of a frame a folder may hold: an image suffix
+    (:data:`IMAGE_SUFFIXES`, any case), not hidden (a leading dot: ``._frame.png`` is
+    macOS's resource fork, not a frame).
+
+    Examples
+    --------
+    >>> is_image_name("frame_000001.PNG"), is_image_name("._frame.png"), is_image_name("a.csv")
+    (True, False, False)
+    """
+    return os.path.splitext(name)[1].lower() in IMAGE_SUFFIXES and not name.startswith(".")
 
 #: Suffixes (lower case) of files expected beside frames (metadata, ground truth, notes):
 #: skipped by the frame-folder reader, logged at DEBUG level.

@@ -39,12 +39,11 @@ from tir_common.atomic import atomic_write, json_safe, write_json
 from tir_common.progress import progress_bar, show_progress
 from tir_contact import _workers
 from tir_contact._outdir import remove_stale_temporaries
-from tir_contact._readers import FootageError, one_line
+from tir_contact._readers import FootageError, is_image_name, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage, load_meta
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
 from tir_contact.prepare import (
-    IMAGE_SUFFIXES,
     INPUT_FILE_OPTIONS,
     _images_in,
     footage_fingerprint,
@@ -136,8 +135,8 @@ def _holds_stacks(folder: Path) -> bool:
     """True when the first image file of `folder` (by name) is a multi-page TIFF: the
     folder then holds stacks, each a video, not one frame per file."""
     try:
-        first = min((q for q in folder.iterdir() if q.is_file() and not q.name.startswith(".")
-                     and q.suffix.lower() in IMAGE_SUFFIXES), default=None)
+        first = min((q for q in folder.iterdir() if q.is_file() and is_image_name(q.name)),
+                    default=None)
         if first is None or first.suffix.lower() not in (".tif", ".tiff"):
             return False
         with tifffile.TiffFile(first) as tif:

@@ -47,6 +47,7 @@ from tir_contact._readers import (
     FootageError,
     check_pixels,
     decode_image_file,
+    is_image_name,
     one_line,
     ranges_text,
     size_text,
@@ -498,9 +499,8 @@ def _subfolder_hint(folder: Path, subfolders: Sequence[str]) -> str:
     for name in sorted(subfolders, key=natural_key):
         try:
             with os.scandir(folder / name) as entries:
-                images = sorted((e.name for e in entries
-                                 if os.path.splitext(e.name)[1].lower() in IMAGE_SUFFIXES
-                                 and not e.name.startswith(".")), key=natural_key)
+                images = sorted((e.name for e in entries if is_image_name(e.name)),
+                                key=natural_key)
         except OSError:
             continue
         if images:

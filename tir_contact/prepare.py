@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from tir_contact._readers import IMAGE_SUFFIXES, FootageError
+from tir_contact._readers import FootageError, is_image_name
 from tir_contact.features import BlockLayout
 from tir_contact.flatfield import Reference
 from tir_contact.meta import META_FILENAME, clip_footage, find_meta, load_meta, read_meta_json
@@ -49,9 +49,7 @@ def output_name(path: str | os.PathLike[str]) -> str:
 
 def _images_in(folder: Path) -> int:
     try:
-        return sum(1 for q in folder.iterdir()
-                   if q.is_file() and not q.name.startswith(".")
-                   and q.suffix.lower() in IMAGE_SUFFIXES)
+        return sum(1 for q in folder.iterdir() if q.is_file() and is_image_name(q.name))
     except OSError:
         return 0
 
