@@ -810,6 +810,11 @@ def noise_model(residuals: list[np.ndarray], levels: np.ndarray,
     ref = np.asarray(levels, np.float32).ravel()[idx]
     res = np.concatenate([np.asarray(r, np.float32).ravel()[idx] for r in residuals])
     lev = np.tile(ref, len(residuals))
+    finite = np.isfinite(res)  # NaN: a residual that is not noise (contact in a sample)
+    if not finite.all():
+        res, lev = res[finite], lev[finite]
+        if not res.size:
+            return NoiseModel(0.0, 0.0, 0)
     edges = np.unique(np.percentile(ref, np.linspace(0, 100, 11)))
     bins = np.clip(np.searchsorted(edges, lev, side="right") - 1, 0, max(len(edges) - 2, 0))
     level_list, variances = [], []
@@ -1058,12 +1063,27 @@ def _translates(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
     return _travel(samples, median, lit, contact_is) >= MIN_TRAVEL_FRACTION
 
 
-def _residuals(samples: list[np.ndarray], free: np.ndarray) -> list[np.ndarray]:
-    """Noise residuals: differences of consecutive samples / sqrt(2), or frame - free."""
+def _residuals(samples: list[np.ndarray], free: np.ndarray,
+               min_darkness: float = math.inf) -> list[np.ndarray]:
+    """Noise residuals: differences of consecutive samples / sqrt(2), or frame - free.
+
+    A difference is noise only where neither sample holds contact: where either reads
+    more than `min_darkness` off the free surface (``|1 - I / free|``, either polarity) it
+    is NaN. A passing block covers a pixel in one sample and not in the next; its stripes
+    had made the differences of a short pass mostly contact, and the robust spread of
+    such a bin tens of DN (a 120-frame pass of G7: 42 DN for 2.1, every pixel then too
+    noisy to measure and no contact found in any frame).
+    """
     f32 = [np.asarray(f, np.float32) for f in samples[:9]]
-    if len(f32) >= 2:
+    if len(f32) < 2:
+        return [f32[0] - free]
+    if not math.isfinite(min_darkness):
         return [(a - b) / math.sqrt(2.0) for a, b in itertools.pairwise(f32)]
-    return [f32[0] - free]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(free > 0, 1.0 / np.asarray(free, np.float32), np.nan)
+        off = [np.abs(1.0 - f * inv) > min_darkness for f in f32]
+    return [np.where(oa | ob, np.nan, (a - b) / math.sqrt(2.0)).astype(np.float32)
+            for (a, oa), (b, ob) in itertools.pairwise(zip(f32, off, strict=True))]
 
 
 def tir_reference(
@@ -1164,7 +1184,7 @@ def tir_reference(
             if contact_is == "dark":
                 # the noise model's residuals (frame differences: the free surface's scale
                 # does not enter) also set the excess's tile test
-                residuals = _residuals(frames, free)
+                residuals = _residuals(frames, free, min_darkness)
                 excess = _excess_over_free_mean(frames, free, mask & ~cand, residuals[:3])
                 free = free * np.float32(1.0 - excess)
         else:
@@ -1188,7 +1208,7 @@ def tir_reference(
         free = np.maximum(free, np.float32(BRIGHT_FLOOR * level))
     away = mask & ~cv2.dilate(cand.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
     if residuals is None:
-        residuals = _residuals(frames, free)
+        residuals = _residuals(frames, free, min_darkness)
     noise = noise_model(residuals, free, away)
     ref = Reference(free.astype(np.float64), mask.copy(), method, len(frames))
     return TirReference(ref, lit, mode, method, noise, *tex, percentile_excess=excess)
@@ -1228,6 +1248,9 @@ def _excess_over_free_mean(frames: list[np.ndarray], bright: np.ndarray,
         return 0.0
     # the noise only sets the tiles' test: every 4th pixel tells it
     values = np.concatenate([r[where][::4] for r in diffs])
+    values = values[np.isfinite(values)]  # NaN: contact in one of a pair's samples
+    if values.size < 100:
+        return 0.0
     sigma = 1.4826 * float(np.median(np.abs(values))) / float(np.median(light[::4]))
     inv = np.where(where, 1.0 / np.maximum(bright, 1e-6), np.nan).astype(np.float32)
     darkness = [1.0 - np.asarray(f, np.float32) * inv for f in few]
