@@ -286,6 +286,10 @@ def test_empty_folder_names_the_subfolder_that_holds_the_frames(tmp_path):
     assert '"frame_pattern": "frames/f{frame}.png"' in message
     (clip / "meta.json").write_text(json.dumps({"frame_pattern": "frames/f{frame:03d}.png"}))
     assert len(FrameFolderReader(clip_footage(clip))) == 3
+    # and the clip folder itself opens them, as the analysis reads it (before: the same
+    # message, asking for the key it now had)
+    with open_footage(clip) as reader:
+        assert len(reader) == 3 and Path(reader.path) == clip / "frames"
     # without meta.json the hint is to give the sub-folder itself
     (clip / "meta.json").unlink()
     hint = re.escape(f"give {clip / 'frames'}, or use --recursive")

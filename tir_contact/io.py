@@ -55,7 +55,7 @@ from tir_contact._readers import (
     to_grey,
     unpack_12bit,
 )
-from tir_contact.meta import META_FILENAME, load_meta
+from tir_contact.meta import META_FILENAME, clip_footage, load_meta
 
 logger = logging.getLogger(__name__)
 
@@ -1228,7 +1228,10 @@ def open_footage(path: str | os.PathLike[str], *, kind: str | None = None) -> Fo
     path : str or os.PathLike
         A folder of frames, a ``.tif``/``.tiff`` stack, a single ``.png``/``.bmp``/``.jpg``
         image (a 1-frame video), a video (``.avi``, ``.mp4``,
-        ``.mov``, ``.mkv``), a Photron ``.mraw``/``.cihx``/``.cih`` or a Phantom ``.cine``.
+        ``.mov``, ``.mkv``), a Photron ``.mraw``/``.cihx``/``.cih`` or a Phantom ``.cine``;
+        or a clip folder whose ``meta.json`` names its footage (``video_file``, or a
+        ``frame_pattern`` in a sub-folder, :func:`tir_contact.meta.clip_footage`): that
+        footage is opened, as the analysis reads it.
     kind : {"folder", "tiff", "image", "video", "mraw", "cine"} or a registered kind, optional
         Force a reader instead of choosing by file type.
 
@@ -1251,6 +1254,10 @@ def open_footage(path: str | os.PathLike[str], *, kind: str | None = None) -> Fo
         if kind not in _REGISTRY:
             raise ValueError(f"kind must be one of {sorted(_REGISTRY)}, got {kind=}")
         return _REGISTRY[kind](path)
+    named = clip_footage(path) if path.is_dir() else None
+    if named is not None and named.exists() and named != path:
+        # a clip folder: the footage its meta.json names, as the analysis reads it
+        return open_footage(named)
     candidates = [cls for cls in readers() if cls.claims(path)]
     if not candidates and path.is_dir():
         raise FootageError(f"{path}: no reader reads this folder", path)
