@@ -18,13 +18,6 @@ from friction_model.dynamics.rigid import BlockParams
 OUT_ROOT = Path(__file__).parent / "out"
 
 
-def output_folder(name: str) -> Path:
-    """The output folder ``examples/out/NAME`` of an example, created if missing."""
-    out = OUT_ROOT / name
-    out.mkdir(parents=True, exist_ok=True)
-    return out
-
-
 def example_arguments(
     argv: Sequence[str] | None,
     doc: str,

@@ -2,7 +2,7 @@
 
 The four measured G3 characteristics (cold/dry and warm/humid at 2.5 and 5 bar, 1..7 m/s)
 differ only in temperature, humidity and pressure; every model parameter is shared.
-Run: ``python examples/calibrate_table_4_6.py`` (about a minute); writes the fitted
+Run: ``python examples/calibrate_table_4_6.py [--out DIR]`` (about a minute); writes the fitted
 parameters (JSON), the comparison table (CSV) and a plot to ``examples/out/table_4_6/``.
 """
 
@@ -12,12 +12,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from _common import output_folder
+from _common import example_arguments
 
 from friction_model import DryWetParameters, calibrate_table_4_6, evaluate_on_table_4_6
 from friction_model.plots import plot_table_4_6
 
-out = output_folder("table_4_6")
+out = example_arguments(None, __doc__, "table_4_6").out
 
 _, rmse_default = evaluate_on_table_4_6(DryWetParameters())
 result = calibrate_table_4_6(n_starts=4, rng=5)

@@ -5,7 +5,7 @@ contact fraction of the dry/wet model at the local pressure
 (:func:`friction_model.contact.drywet.real_contact_fraction`, the function the synthetic renderer
 uses too). Predicted, not fitted: compare G0 and G7 with the thesis's ~0.70 and ~0.25.
 
-Run: ``python examples/contact_ratio.py`` (about 25 s); writes a CSV and a bar chart to
+Run: ``python examples/contact_ratio.py [--out DIR]`` (about 25 s); writes a CSV and a bar chart to
 ``examples/out/contact_ratio/``.
 """
 
@@ -13,11 +13,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-from _common import output_folder, save_figure
+from _common import example_arguments, save_figure
 
 from friction_model.dynamics import reference_contact_ratios
 
-out = output_folder("contact_ratio")
+out = example_arguments(None, __doc__, "contact_ratio").out
 
 table = reference_contact_ratios()
 table.to_csv(out / "contact_ratio.csv", index=False)

@@ -4,9 +4,9 @@ Synthesises, with a known friction law mu(v), three tread-block specimens (G0, G
 in thesis Fig. 4.21) measured in alternation (section 4.2.3) five times each at two sliding
 velocities, plus one instationary run (constant acceleration then deceleration, section
 4.4), evaluates the folder and prints the steady characteristic and the ambient table
-(Table 4.2 style). Outputs and plots go to ``examples/out/evaluate/``.
+(Table 4.2 style). Outputs and plots go to ``examples/out/evaluate/`` (``--out DIR``).
 
-Run with ``python examples/evaluate_runs.py``.
+Run with ``python examples/evaluate_runs.py [--out DIR]``.
 """
 
 from __future__ import annotations
@@ -16,15 +16,11 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from _common import example_arguments
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:  # running from a source checkout without installing
-    sys.path.insert(0, str(ROOT))
+from friction_model.rig import evaluate_folder
+from synthetic.rig import make_raw_run, write_run_csv
 
-from friction_model.rig import evaluate_folder  # noqa: E402
-from synthetic.rig import make_raw_run, write_run_csv  # noqa: E402
-
-OUT = ROOT / "examples" / "out" / "evaluate"
 SAMPLE_RATE_HZ = 10_000  # the rig records at 50 kHz; 10 kHz keeps the example quick
 # friction level of each specimen: the three-siped block grips best (thesis Fig. 4.9)
 LEVEL = {"G0": 1.00, "G3": 1.12, "G5": 1.05}
@@ -82,10 +78,11 @@ def synthesise(folder: Path, rng: np.random.Generator) -> None:
     write_run_csv(df, folder / "G3_instationary.csv")
 
 
-def main() -> int:
-    runs = OUT / "runs"
+def main(argv: list[str] | None = None) -> int:
+    out = example_arguments(argv, __doc__, "evaluate").out
+    runs = out / "runs"
     synthesise(runs, np.random.default_rng(2011))
-    result = evaluate_folder(runs, OUT, progress=False)
+    result = evaluate_folder(runs, out, progress=False)
     with pd.option_context("display.width", 120, "display.max_columns", 12):
         steady = result.steady[result.steady["row_type"] == "aggregate"]
         print("Steady friction characteristic (mean and std over 5 runs):")
@@ -117,7 +114,7 @@ def main() -> int:
         print(inst.loc[near, columns].to_string(index=False, float_format="{:.4f}".format))
     for failure in result.failures:
         print(f"{failure.file}: {failure.message}", file=sys.stderr)
-    print(f"\nwrote {len(result.outputs)} files to {OUT}")
+    print(f"\nwrote {len(result.outputs)} files to {out}")
     return 0 if result.ok else 1
 
 

@@ -1,6 +1,6 @@
 """Reproduce Fig. 4.26: the dry run-in length of Eq. 4.7 over v, p, dT and mu_dry.
 
-Run: ``python examples/fig_4_26_dry_length.py``; writes PNG and CSV to
+Run: ``python examples/fig_4_26_dry_length.py [--out DIR]``; writes PNG and CSV to
 ``examples/out/fig_4_26/``.
 """
 
@@ -8,12 +8,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from _common import output_folder
+from _common import example_arguments
 
 from friction_model import dry_run_in_length
 from friction_model.plots import fig_4_26_table, plot_fig_4_26
 
-out = output_folder("fig_4_26")
+out = example_arguments(None, __doc__, "fig_4_26").out
 
 table = fig_4_26_table()
 table.to_csv(out / "dry_length.csv", index=False)

@@ -18,7 +18,7 @@ Scenario as in ``tests/test_rigid.py`` (face contact, c_N = 5e4 N/m, Eq. 5.7 wit
 a2 = 0.15, a3 = -0.3 s/m), with the one rubber's loss factor (0.2; the test uses 0.4),
 v0 = 5 m/s, y0 = 5.1 mm.
 
-Run: ``python examples/rough_surface.py``; writes
+Run: ``python examples/rough_surface.py [--out DIR]``; writes
 ``examples/out/rough_surface/rough_surface.png`` and ``rough_surface.csv``.
 """
 
@@ -28,7 +28,7 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _common import face_contact_block, output_folder, save_figure
+from _common import example_arguments, face_contact_block, save_figure
 
 from friction_model.contact.laws import RelaxedFriction
 from friction_model.dynamics import SolverOptions
@@ -37,7 +37,7 @@ from friction_model.dynamics.rigid import (
     simulate_block_dynamics,
 )
 
-out = output_folder("rough_surface")
+out = example_arguments(None, __doc__, "rough_surface").out
 
 V0, Y0, TAU = 5.0, 5.1e-3, 0.004
 TRACK = 0.04  # length of one pass of the profile, m

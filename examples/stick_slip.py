@@ -10,7 +10,8 @@ vibration, E(f) of the causal constant-loss model (fixed point f = f1(E(f)) of t
 first mode), and the damping of its loss factor, k_i = tan(delta) / (2 pi f). Frequency and
 amplitude are predictions; k4 (not determined by Table 4.6) is varied over 20-200 s/m.
 
-Run: ``python examples/stick_slip.py``; writes ``examples/out/timoshenko/stick_slip.png``.
+Run: ``python examples/stick_slip.py [--out DIR]``; writes
+``examples/out/timoshenko/stick_slip.png``.
 """
 
 import matplotlib
@@ -21,7 +22,7 @@ from dataclasses import replace
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _common import output_folder, save_figure
+from _common import example_arguments, save_figure
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import REFERENCE_COMPOUND
@@ -36,7 +37,7 @@ V0 = 1.0
 K4_VALUES = (20.0, 50.0, 200.0)  # s/m: interval of the unidentified zero-crossing steepness
 WINDOW_S = 0.03  # analysis window at the end of the run
 
-out = output_folder("timoshenko")
+out = example_arguments(None, __doc__, "timoshenko").out
 
 rows = table_4_6_targets()
 rows = rows[rows["curve"] == "cold-dry 2.5 bar"]

@@ -17,7 +17,7 @@ vertical). Nothing here is fitted to a chapter 5 number:
   (fixed point f = f1(E(f))), damping from the loss factor, k_i = tan(delta) / (2 pi f);
   the limit cycle of the time simulation with that E and k_i.
 
-Run: ``python examples/timoshenko_validation.py``; writes ``examples/out/timoshenko/``
+Run: ``python examples/timoshenko_validation.py [--out DIR]``; writes ``examples/out/timoshenko/``
 ``predictions.csv``, ``predictions.md`` and ``timoshenko_validation.png``.
 """
 
@@ -32,7 +32,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from _common import output_folder, save_figure
+from _common import example_arguments, save_figure
 
 from friction_model import ArctanExponentialLaw, fit_law, table_4_6_targets
 from friction_model.compound import REFERENCE_COMPOUND, Compound
@@ -59,7 +59,7 @@ F_RIG_HZ, F_THESIS_SIM_HZ, R_THESIS_MM = 1500.0, 1111.0, 0.625
 E_BEFORE_PA = 1.05e6
 STEADY_K_I = 1e-3  # damping used only to reach the steady state (which does not depend on it)
 
-out = output_folder("timoshenko")
+out = example_arguments(None, __doc__, "timoshenko").out
 
 rows = table_4_6_targets()
 rows = rows[rows["curve"] == "cold-dry 2.5 bar"]

@@ -11,7 +11,7 @@ over the bottom face ("face" contact), c_N = 5e4 N/m so that y0 = 5.1 mm gives 4
 element (1.2 bar), the one rubber's loss factor (friction_model.compound, 0.2; the test
 uses 0.4), Eq. 5.7 with a1 = 0.2, a2 = 0.15, a3 = -0.3 s/m.
 
-Run: ``python examples/velocity_step.py``; writes
+Run: ``python examples/velocity_step.py [--out DIR]``; writes
 ``examples/out/velocity_step/velocity_step.png`` and ``velocity_step.csv``.
 """
 
@@ -21,13 +21,13 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 import pandas as pd
-from _common import face_contact_block, output_folder, save_figure
+from _common import example_arguments, face_contact_block, save_figure
 
 from friction_model.contact.laws import RelaxedFriction
 from friction_model.dynamics import velocity_step
 from friction_model.dynamics.rigid import simulate_block_dynamics
 
-out = output_folder("velocity_step")
+out = example_arguments(None, __doc__, "velocity_step").out
 
 T_STEP, TAU, T_END = 0.2, 0.03, 0.4
 params, law = face_contact_block()
