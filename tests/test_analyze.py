@@ -164,6 +164,10 @@ def test_without_geometry_every_region_is_reported(copy_meta, clip, tmp_path):
     res = analyze_video(folder, tmp_path / "out", options=FAST)
     assert (tmp_path / "out" / "plain" / "regions.csv").is_file()
     assert res.elements.empty
+    # typed as a full table (before, object columns: np.isfinite on them raised a TypeError
+    # in the validation script)
+    assert res.elements.dtypes["frame"] == np.int64
+    assert np.isfinite(res.elements.contact_length_mm).sum() == 0
     truth = pd.read_csv(clip / "ground_truth.csv")
     el = truth[(truth.element >= 0) & truth.in_view].groupby("frame").size()
     regions = res.regions.groupby("frame").size()

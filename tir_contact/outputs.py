@@ -22,7 +22,7 @@ from tir_common.atomic import write_json
 from tir_contact import __version__
 from tir_contact._outdir import replace_folder, staging_folder, temporary_name
 from tir_contact._readers import FootageError
-from tir_contact.features import ELEMENT_FIELDS, FRAME_KEYS, element_records
+from tir_contact.features import ELEMENT_DTYPE, ELEMENT_FIELDS, FRAME_KEYS, element_records
 from tir_contact.options import AnalysisOptions
 from tir_contact.prepare import VideoSetup, footage_fingerprint, input_files
 
@@ -170,9 +170,9 @@ class Tables:
 
 def _records_table(rows: list[tuple], frames: list[int], fps: float) -> pd.DataFrame:
     """The elements table from the element tuples of every frame, built once."""
-    if not rows:
-        return pd.DataFrame(columns=ELEMENT_COLUMNS)
-    rec = element_records(rows)
+    # no rows: the columns typed all the same (int frame and element, float values), so
+    # that arithmetic on an empty table works as on a full one
+    rec = element_records(rows) if rows else np.zeros(0, ELEMENT_DTYPE)
     frame = np.array(frames, dtype=np.int64)
     data = {"frame": frame, "time_s": frame / fps}
     data.update({name: rec[name] for name in rec.dtype.names})
