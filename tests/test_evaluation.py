@@ -709,3 +709,12 @@ def test_close_gaps_is_the_morphological_closing(bits, max_gap):
     padded = np.pad(mask, size)
     closed = ndimage.binary_closing(padded, structure=np.ones(size, dtype=bool))[size:-size]
     np.testing.assert_array_equal(_close_gaps(mask, max_gap), closed)
+
+
+def test_no_path_that_exists_is_an_error_and_writes_nothing(tmp_path):
+    # before, evaluate_folder on a mistyped folder wrote empty tables and plots and said
+    # so only at INFO level (the CLI refused it already); one missing among others stays
+    # a failure of the result (test_batch_reports_missing_file_and_empty_folder)
+    with pytest.raises(FileNotFoundError, match=r"nope: does not exist"):
+        evaluate_folder(tmp_path / "nope", tmp_path / "out", progress=False)
+    assert not (tmp_path / "out").exists()

@@ -98,12 +98,20 @@ def evaluate_runs(
     -------
     EvaluationResult
         Tables, per-run results and failures (nothing is written).
+
+    Raises
+    ------
+    FileNotFoundError
+        When none of `paths` exists (a mistyped path: there is nothing to evaluate). One
+        missing among others is a failure of the result, as a broken file is.
     """
     window = window if window is not None else WindowParams()
     inst_params = instationary_params if instationary_params is not None else InstationaryParams()
     if inertial_mass_kg is not None:
         check_nonnegative("inertial_mass_kg", inertial_mass_kg)
     paths = list(paths)
+    if paths and not any(Path(p).exists() for p in paths):
+        raise FileNotFoundError(f"{', '.join(str(p) for p in paths)}: does not exist")
     failures = _empty_folders(paths)
     files = collect_run_files(paths)
     steady_runs: list[SteadyRunResult] = []
@@ -183,6 +191,11 @@ def evaluate_folder(
     -------
     EvaluationResult
         With ``outputs`` filled in.
+
+    Raises
+    ------
+    FileNotFoundError
+        When none of `paths` exists; nothing is written (see :func:`evaluate_runs`).
     """
     if isinstance(paths, str | os.PathLike):
         paths = [paths]
