@@ -598,6 +598,19 @@ def test_meta_read_and_overridden(tmp_path):
     assert meta["extra"] == {"x": 1}
 
 
+def test_a_misspelt_override_is_warned_about(tmp_path, caplog):
+    # before, a script's mm_per_pixel or blok.length_mm changed nothing without a word; a
+    # key of the user's own (extra.x, operator) is kept without one
+    write_meta(tmp_path, META)
+    with caplog.at_level("WARNING", logger="tir_contact"):
+        meta = load_meta(tmp_path, {"mm_per_pixel": 0.2, "blok.length_mm": 5, "extra.x": 1})
+    assert meta["mm_per_px"] == META["mm_per_px"]
+    assert "'mm_per_pixel' is not a key the analysis reads (did you mean 'mm_per_px'?)" \
+        in caplog.text
+    assert "did you mean 'block.length_mm'?" in caplog.text
+    assert "extra" not in caplog.text
+
+
 def test_meta_without_file_uses_overrides_header_and_defaults(tmp_path):
     video = tmp_path / "run.avi"
     video.write_bytes(b"")

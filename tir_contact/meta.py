@@ -24,6 +24,7 @@ as seen in the image (``"right"``: towards increasing column index).
 from __future__ import annotations
 
 import copy
+import difflib
 import json
 import logging
 import math
@@ -305,6 +306,16 @@ def _get_dotted(data: Mapping[str, Any], key: str) -> Any:
     return node
 
 
+def _warn_if_misspelt(key: str) -> None:
+    """Warn about an override key the analysis does not read that is close to one it does
+    (``mm_per_pixel``, ``blok.length_mm``): kept as given, it would change nothing. Other
+    unknown keys are the user's own (an operator, a run number) and kept without a word."""
+    close = difflib.get_close_matches(key, list(META_FIELDS), n=1, cutoff=0.8)
+    if close:
+        logger.warning("metadata override '%s' is not a key the analysis reads (did you "
+                       "mean '%s'?): kept as given, it changes nothing", key, close[0])
+
+
 def check_overrides(overrides: Mapping[str, Any] | None) -> dict[str, Any]:
     """Command-line metadata values, parsed and checked before any footage is read.
 
@@ -317,7 +328,7 @@ def check_overrides(overrides: Mapping[str, Any] | None) -> dict[str, Any]:
     -------
     dict
         The values of the known keys coerced (numbers from text, choices in lower case),
-        unknown keys as given.
+        unknown keys as given (one close to a known key is warned about: a misspelling).
 
     Raises
     ------
@@ -340,6 +351,8 @@ def check_overrides(overrides: Mapping[str, Any] | None) -> dict[str, Any]:
             continue
         field = META_FIELDS.get(key)
         where = f"option {option_flag(key)}:"
+        if field is None:
+            _warn_if_misspelt(key)
         if field is not None:
             value = _check(value, field, where, from_text=True)
             if field.kind == "object":
