@@ -77,6 +77,17 @@ def test_transient_and_elements_tables_with_decimal_commas_are_read_exactly(tmp_
     assert a["deflection_angle_deg"].isna().sum() == 8  # out of view: kept as NaN
 
 
+def test_a_row_without_friction_is_left_out_and_said(tmp_path, caplog):
+    # before, the row went without a word: 7 points fitted from a file of 8 rows
+    rows = steady_rows()
+    rows[2][6] = ""
+    with caplog.at_level("WARNING", logger="friction_model"):
+        c = read_characteristic(write(tmp_path / "c.csv", STEADY_COLUMNS, rows))
+    assert len(c.mu) == 7
+    assert "c.csv: column 'mu': 1 row(s) without a finite friction coefficient left out " \
+        "(data row 3 (file line 4))" in caplog.text
+
+
 def test_characteristic_with_decimal_commas_is_read_exactly(tmp_path):
     rows = steady_rows()
     a = read_characteristic(write(tmp_path / "c.csv", STEADY_COLUMNS, rows),

@@ -264,7 +264,16 @@ def read_characteristic(
                 break
     table = _select_rows(table, select, src)
     _one_group(table, src)
-    table = table[np.isfinite(table[mu_col].to_numpy(float))]
+    finite = np.isfinite(table[mu_col].to_numpy(float))
+    if not finite.all():
+        # a row without a friction coefficient (an empty field: a run the evaluation could
+        # not read) is left out, and said: the fit has fewer points than the file has rows
+        left = table.index[~finite]
+        shown = ", ".join(src.where(int(i)) for i in left[:3]) + (", ..." if len(left) > 3
+                                                                  else "")
+        logger.warning("%s: column '%s': %d row(s) without a finite friction coefficient "
+                       "left out (%s)", src.file, mu_col, len(left), shown)
+    table = table[finite]
     if len(table) < 2:
         raise src.error(
             f"column '{mu_col}': expected at least 2 rows with a friction coefficient (after "
