@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -429,3 +430,24 @@ def test_a_short_pass_of_many_elements_is_measured(tmp_path):
     assert len(inside) > 60
     rel = (frames.loc[inside, "contact_area_mm2"] / block.loc[inside, "contact_area_mm2"] - 1)
     assert rel.abs().median() <= 0.02
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"min_area_px": "4"}, "min_area_px must be an int, got '4' (str)"),
+    ({"contrast": "0.9"}, "contrast must be a number or None, got '0.9' (str)"),
+    ({"plots": 1}, "plots must be True or False, got 1 (int)"),
+    ({"min_area_px": True}, "min_area_px must be an int, got True (bool)"),
+])
+def test_an_option_of_the_wrong_type_is_named(kwargs, message):
+    # before: "'<' not supported between instances of 'str' and 'int'" (min_area_px), or
+    # taken as it was (plots=1); numpy scalars are numbers as any
+    with pytest.raises(TypeError, match=re.escape(message)):
+        AnalysisOptions(**kwargs)
+    AnalysisOptions(min_area_px=np.int64(4), contrast=np.float32(0.5), plots=np.bool_(True))
+
+
+def test_options_as_a_dict_is_a_type_error_that_shows_the_call(tmp_path):
+    # before: AttributeError: 'dict' object has no attribute 'reference_frames'
+    with pytest.raises(TypeError, match=re.escape(
+            "options must be an AnalysisOptions, e.g. AnalysisOptions(contrast=0.9), got dict")):
+        analyze_video(tmp_path, options={"contrast": 0.9})

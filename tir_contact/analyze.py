@@ -41,7 +41,7 @@ from tir_common.progress import progress_bar
 from tir_contact._readers import FootageError
 from tir_contact.frame import FrameAnalyser, FrameResult, analyze_frame
 from tir_contact.io import open_footage
-from tir_contact.options import AnalysisOptions
+from tir_contact.options import AnalysisOptions, checked_options
 from tir_contact.outputs import (
     ELEMENT_COLUMNS,
     FRAME_COLUMNS,
@@ -144,7 +144,7 @@ def analyze_video(
     >>> round(float(result.frames.loc[4, "contact_area_mm2"]), 6)  # 5 x 10 px of 0.01 mm2
     0.5
     """
-    options = options or AnalysisOptions()
+    options = checked_options(options)
     path, default_name = resolve_footage(path, strict=True)
     name = name or default_name
     t0 = time.perf_counter()

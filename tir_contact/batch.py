@@ -42,6 +42,7 @@ from tir_contact._outdir import remove_stale_temporaries
 from tir_contact._readers import FootageError, is_image_name, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
 from tir_contact.meta import META_FILENAME, clip_footage, load_meta
+from tir_contact.options import checked_options
 from tir_contact.outputs import _RESULT_VERSION, RESULT_FILES
 from tir_contact.prepare import (
     INPUT_FILE_OPTIONS,
@@ -441,7 +442,7 @@ def analyze_batch(
     BatchReport
         Also written to ``out/batch_report.json`` and ``out/batch_report.csv``.
     """
-    options = options or AnalysisOptions()
+    options = checked_options(options)
     out_path = Path(out)
     out_path.mkdir(parents=True, exist_ok=True)
     remove_stale_temporaries(out_path)

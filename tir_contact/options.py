@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import numbers
+import os
+from dataclasses import dataclass, fields
+from typing import Any
 
-__all__ = ["AnalysisOptions"]
+import numpy as np
+
+__all__ = ["AnalysisOptions", "checked_options"]
 
 
 @dataclass(frozen=True)
@@ -87,6 +92,8 @@ class AnalysisOptions:
     parquet: bool = True
 
     def __post_init__(self) -> None:
+        for f in fields(self):
+            _check_type(f.name, getattr(self, f.name), f.type)
         if self.reference_frames < 1:
             raise ValueError(f"reference_frames must be >= 1, got {self.reference_frames!r}")
         if self.contrast is not None and not 0.0 < self.contrast <= 2.0:
@@ -102,3 +109,53 @@ class AnalysisOptions:
                              f"{self.peak_window_mm!r}")
         if not self.noise_sigmas > 0:
             raise ValueError(f"noise_sigmas must be > 0, got {self.noise_sigmas!r}")
+
+
+#: What each annotation of :class:`AnalysisOptions` takes (a file option also a path).
+_TYPES: dict[str, tuple[tuple[type, ...], str]] = {
+    "int": ((numbers.Integral,), "an int"),
+    "float": ((numbers.Real,), "a number"),
+    "float | None": ((numbers.Real, type(None)), "a number or None"),
+    "bool": ((bool, np.bool_), "True or False"),
+    "str": ((str,), "a str"),
+    "str | None": ((str, os.PathLike, type(None)), "a file path or None"),
+}
+
+
+def _check_type(name: str, value: Any, annotation: str) -> None:
+    """A TypeError naming the option, what it takes and what it got (a bool is no number:
+    ``min_area_px=True`` is a slip)."""
+    allowed, what = _TYPES[annotation]
+    if isinstance(value, bool | np.bool_) and bool not in allowed:
+        ok = False
+    else:
+        ok = isinstance(value, allowed)
+    if not ok:
+        raise TypeError(f"AnalysisOptions: {name} must be {what}, got {value!r} "
+                        f"({type(value).__name__})")
+
+
+def checked_options(options: Any) -> AnalysisOptions:
+    """`options` as given, :class:`AnalysisOptions` defaults for None; anything else is a
+    TypeError that shows how to give them (a dict is not taken: a misspelt key would be
+    lost the way the dataclass refuses it).
+
+    Examples
+    --------
+    >>> checked_options(None).min_area_px
+    4
+    >>> checked_options({"contrast": 0.9})
+    Traceback (most recent call last):
+    ...
+    TypeError: options must be an AnalysisOptions, e.g. AnalysisOptions(contrast=0.9), got dict
+    """
+    if options is None:
+        return AnalysisOptions()
+    if isinstance(options, AnalysisOptions):
+        return options
+    example = ""
+    if isinstance(options, dict) and options:
+        key, value = next(iter(options.items()))
+        example = f"{key}={value!r}"
+    raise TypeError(f"options must be an AnalysisOptions, e.g. AnalysisOptions({example}), "
+                    f"got {type(options).__name__}")
