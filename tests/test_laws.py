@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -604,3 +605,15 @@ def test_bad_simulation_inputs():
         relaxed.simulate([0.0, math.nan], 1.0)
     with pytest.raises(ValueError, match=r"mu0 must be finite"):
         relaxed.simulate([0.0, 1.0], 1.0, mu0=math.nan)
+
+
+def test_more_free_parameters_than_velocities_is_warned_about():
+    # three parameters of Eq. 5.7 from runs at two velocities: before, a3 = 2.49 +- 891
+    # came back without a word (helper-10); two of Eq. 4.8 from the same runs fit quietly
+    v = np.array([1.0, 1.0, 1.0, 3.0, 3.0, 3.0])
+    mu = 0.2 - 0.01 * v + 1e-3 * np.array([1, -1, 0, 1, -1, 0])
+    with pytest.warns(UserWarning, match=r"3 free parameters .* but 2 distinct velocities"):
+        fit_law(ExponentialLaw, v, mu)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fit_law(DecreasingSqrtLaw, v, mu)

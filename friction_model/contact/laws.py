@@ -796,7 +796,9 @@ def fit_law(
     -----
     UserWarning
         If the covariance cannot be estimated (stderr set to inf) or the optimiser stops at its
-        evaluation limit: both mean the data hardly determine the parameters.
+        evaluation limit: both mean the data hardly determine the parameters. Also when
+        there are more free parameters than distinct velocities (velocity and pressure
+        pairs for a law that reads the pressure).
 
     Notes
     -----
@@ -832,6 +834,7 @@ def fit_law(
             f"too few points: fitting {len(free)} free parameter(s) {free} of {name} needs at "
             f"least {need} data points, got {n}"
         )
+    _warn_if_undetermined(name, free, v, pressure)
     problem = _FitProblem(law_cls, v, y, sqrt_w, pressure, fixed_vals, free)
     start_given = _resolve_p0(p0, free, name)
     if all(k in law_cls._linear for k in free):
@@ -839,6 +842,22 @@ def fit_law(
     else:
         params, J = _fit_nonlinear(problem, start_given)
     return _fit_result(problem, params, J, absolute)
+
+
+def _warn_if_undetermined(name: str, free: tuple[str, ...], v: np.ndarray,
+                          pressure: np.ndarray | None) -> None:
+    """Warn when the law has more free parameters than the data have distinct conditions
+    (velocities; velocity and pressure pairs for a law that reads the pressure): the data
+    then fix at most that many combinations of them, whatever the standard errors say."""
+    points = v if pressure is None else np.column_stack([v, np.broadcast_to(pressure, v.shape)])
+    distinct = len(np.unique(points, axis=0))
+    if len(free) > distinct:
+        what = "velocities" if pressure is None else "velocity and pressure pairs"
+        warnings.warn(
+            f"{name}: {len(free)} free parameters {free} but {distinct} distinct {what}: "
+            f"the data determine at most {distinct} combination{'s' if distinct > 1 else ''} "
+            "of them (measure more "
+            "velocities, or fix some with fixed=)", UserWarning, stacklevel=3)
 
 
 @dataclass(frozen=True)
