@@ -14,15 +14,13 @@ import os
 import signal
 import sys
 import threading
-from collections.abc import Iterator
-from contextlib import contextmanager
 from multiprocessing.context import BaseContext
 
 import cv2
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["children", "context", "end_workers", "init_worker", "one_interrupt",
+__all__ = ["children", "context", "end_workers", "init_worker",
            "parent_alive"]
 
 #: Seconds between two looks at the parent.
@@ -85,30 +83,6 @@ def end_workers(before: set[multiprocessing.process.BaseProcess],
         if p.is_alive():
             p.kill()
             p.join()
-
-
-@contextmanager
-def one_interrupt() -> Iterator[None]:
-    """Inside the block the first Ctrl-C (SIGINT) raises :class:`KeyboardInterrupt` and any
-    further one is ignored: an impatient second Ctrl-C must not cut short the clean-up after
-    the first (ending the workers, writing the batch report). Only in the main thread
-    (elsewhere Python delivers no signal, and it is a no-op)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    fired = False
-
-    def handler(signum: int, frame: object) -> None:
-        nonlocal fired
-        if not fired:
-            fired = True
-            raise KeyboardInterrupt
-
-    previous = signal.signal(signal.SIGINT, handler)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
 
 
 def _watch(pid: int) -> None:

@@ -38,6 +38,7 @@ import tifffile
 from tir_common.atomic import atomic_write, json_safe, write_json
 from tir_common.progress import progress_bar, show_progress
 from tir_contact import _workers
+from tir_contact._interrupt import one_interrupt
 from tir_contact._outdir import remove_stale_temporaries
 from tir_contact._readers import FootageError, is_image_name, one_line
 from tir_contact.analyze import AnalysisOptions, analyze_video
@@ -480,7 +481,7 @@ def analyze_batch(
         nonlocal bar
         bar = _bar(len(items), len(items) - len(todo), bars)
 
-    with _workers.one_interrupt():  # a second Ctrl-C cannot cut the clean-up short
+    with one_interrupt():  # a second Ctrl-C cannot cut the clean-up short
         try:
             if scheduler is not None:
                 _run_dask(todo, out_path, overrides, options, scheduler, finish)

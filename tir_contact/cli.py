@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from types import ModuleType
 
 from tir_contact import __version__
+from tir_contact._interrupt import one_interrupt
 from tir_contact.commands._types import UsageError
 
 #: Exit code of a usage error (argparse uses the same).
@@ -236,9 +237,11 @@ def main(argv: Sequence[str] | None = None) -> int:
                 # library warnings (matplotlib, pandas, numpy) are not the user's business;
                 # our own conditions are logged as WARNING lines instead
                 warnings.simplefilter("ignore")
-            return int(args.func(args) or 0)
+            # the first Ctrl-C stops the command; a further one, until the process ends,
+            # must not cut short the clean-up or change the exit code
+            with one_interrupt(keep_ignoring=True):
+                return int(args.func(args) or 0)
     except KeyboardInterrupt:
-        # the work is stopped and recorded: a further Ctrl-C must not change the exit code
         with contextlib.suppress(ValueError):  # ValueError: not the main thread
             signal.signal(signal.SIGINT, signal.SIG_IGN)
         print(f"{prog}: interrupted", file=sys.stderr)
