@@ -108,7 +108,7 @@ from friction_model.effect_registry import (
     register_effect,
     unregister_effect,
 )
-from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
+from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, as_geometry, reference_block
 from friction_model.identification.coupling import (
     LeverArmFit,
     MeasuredContact,
@@ -184,6 +184,7 @@ __all__ = [
     "StepElement",
     "VenkateshLaw",
     "WaterProperties",
+    "as_geometry",
     "calibrate_from_results",
     "calibrate_table_4_6",
     "contact_from_pipeline",

@@ -8,7 +8,7 @@ import numpy as np
 
 from tir_common.validate import check_nonnegative, check_positive
 
-__all__ = ["REFERENCE_SAMPLES", "BlockGeometry", "reference_block"]
+__all__ = ["REFERENCE_SAMPLES", "BlockGeometry", "as_geometry", "reference_block"]
 
 
 @dataclass(frozen=True)
@@ -133,3 +133,37 @@ def reference_block(name: str) -> BlockGeometry:
         raise ValueError(
             f"unknown reference sample {name!r}; expected one of {sorted(REFERENCE_SAMPLES)}"
         ) from None
+
+
+def as_geometry(geometry: BlockGeometry | str) -> BlockGeometry:
+    """The block `geometry` is, or the reference sample it names (``"G3"``).
+
+    Parameters
+    ----------
+    geometry : BlockGeometry or str
+        A block, or a reference sample's marking (Table 4.4, any case).
+
+    Returns
+    -------
+    BlockGeometry
+
+    Raises
+    ------
+    ValueError
+        An unknown marking.
+    TypeError
+        Neither a block nor a marking.
+
+    Examples
+    --------
+    >>> as_geometry("g3") == reference_block("G3")
+    True
+    """
+    if isinstance(geometry, BlockGeometry):
+        return geometry
+    if isinstance(geometry, str):
+        return reference_block(geometry)
+    raise TypeError(
+        "geometry must be a BlockGeometry or a reference sample's name "
+        f"({', '.join(sorted(REFERENCE_SAMPLES))}), got {type(geometry).__name__}"
+    )

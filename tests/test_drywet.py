@@ -331,3 +331,21 @@ def test_table_missing_column_and_bad_row():
 def test_saline_ice_above_its_melting_point_is_an_error():
     with pytest.raises(ValueError, match="melting point"):
         simulate_block(G3, Conditions.from_bar(1.0, 2.5, -0.2, salinity_pct=0.5))
+
+
+# --- the block given by name -----------------------------------------------------------------
+
+
+def test_a_reference_block_may_be_given_by_its_name():
+    # the name is the Table 4.4 marking: the same block, so the same numbers to the bit
+    by_name = simulate_block("g3", COLD_DRY)
+    assert by_name.geometry == G3
+    assert by_name.block == simulate_block(G3, COLD_DRY).block
+    assert friction_table("G3", [COLD_DRY]).equals(friction_table(G3, [COLD_DRY]))
+
+
+def test_a_block_that_is_neither_a_geometry_nor_a_name_is_a_clear_error():
+    with pytest.raises(ValueError, match=r"unknown reference sample 'G9'.*G0"):
+        simulate_block("G9", COLD_DRY)
+    with pytest.raises(TypeError, match=r"geometry must be a BlockGeometry or .*got int"):
+        friction_table(3, [COLD_DRY])

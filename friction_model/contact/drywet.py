@@ -43,7 +43,7 @@ from friction_model.constants import ICE, WATER, IceProperties, WaterProperties
 from friction_model.contact._march import Grid, MarchInput, MarchOutput, build_grid, march
 from friction_model.contact.effects import Effects
 from friction_model.contact.water_layer import freezing_point_depression_K, initial_water_layer_m
-from friction_model.geometry import BlockGeometry
+from friction_model.geometry import BlockGeometry, as_geometry
 from tir_common.validate import check_nonnegative, check_positive, check_range
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -471,7 +471,7 @@ def _run(
 
 
 def friction_table(
-    geometry: BlockGeometry,
+    geometry: BlockGeometry | str,
     conditions: Conditions | pd.DataFrame | list[Conditions],
     params: DryWetParameters | None = None,
 ) -> pd.DataFrame:
@@ -479,8 +479,8 @@ def friction_table(
 
     Parameters
     ----------
-    geometry : BlockGeometry
-        The tread block.
+    geometry : BlockGeometry or str
+        The tread block, or a reference sample's name (``"G3"``).
     conditions : Conditions, list of Conditions or pandas.DataFrame
         A table needs ``velocity_mps``, ``pressure_Pa`` (or ``pressure_bar``) and
         ``temperature_C``; ``humidity_pct`` (default 50), ``salinity_pct`` (0) and
@@ -504,6 +504,7 @@ def friction_table(
     >>> bool(0.1 < t.loc[0, "mu"] < 0.5)
     True
     """
+    geometry = as_geometry(geometry)
     params = params or DryWetParameters()
     table = _as_table(conditions)
     prep, _res, agg = _run(geometry, table, params)
@@ -537,7 +538,7 @@ def friction_table(
 
 
 def simulate_block(
-    geometry: BlockGeometry,
+    geometry: BlockGeometry | str,
     conditions: Conditions,
     params: DryWetParameters | None = None,
 ) -> BlockFriction:
@@ -549,8 +550,8 @@ def simulate_block(
 
     Parameters
     ----------
-    geometry : BlockGeometry
-        The tread block (element 0 leads).
+    geometry : BlockGeometry or str
+        The tread block (element 0 leads), or a reference sample's name (``"G3"``).
     conditions : Conditions
         Velocity, nominal pressure, temperature, humidity, salinity, optional measured
         real contact fraction.
@@ -574,6 +575,7 @@ def simulate_block(
             f"conditions must be a Conditions instance, got {type(conditions).__name__}; "
             "use friction_table for many conditions"
         )
+    geometry = as_geometry(geometry)
     params = params or DryWetParameters()
     table = _as_table(conditions)
     prep, res, agg = _run(geometry, table, params)
@@ -689,7 +691,7 @@ def _block_profile(conditions: Conditions, prep: _Prepared, res: MarchOutput) ->
 
 
 def element_friction_table(
-    geometry: BlockGeometry,
+    geometry: BlockGeometry | str,
     conditions: Conditions | pd.DataFrame | list[Conditions],
     params: DryWetParameters | None = None,
 ) -> np.ndarray:
@@ -705,6 +707,7 @@ def element_friction_table(
     ndarray, shape (n_conditions, n_elements)
         mu of each element (element 0 leads): its friction force over its normal force.
     """
+    geometry = as_geometry(geometry)
     params = params or DryWetParameters()
     table = _as_table(conditions)
     prep, _res, agg = _run(geometry, table, params)
