@@ -94,7 +94,9 @@ def test_three_falling_points_are_undecidable_never_constant():
     # the trap of issue 26: AICc of every two-parameter law is infinite at n = 3
     assert math.isinf(aicc_rss(1e-4, 2, 3)) and math.isinf(aicc_known_sigma(1.0, 2, 3))
     assert "DecreasingSqrtLaw" in info.value.in_play and len(info.value.in_play) >= 2
-    assert "--law" in str(info.value) and "\n" not in str(info.value)
+    # how to name the law, for a script (law=) and for the command line (--law)
+    assert "law='NAME'" in str(info.value) and "--law" in str(info.value)
+    assert "\n" not in str(info.value)
 
 
 def test_three_falling_means_with_their_scatter_exclude_the_constant():

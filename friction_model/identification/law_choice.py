@@ -222,7 +222,7 @@ class LawUndecidable(ValueError):
         self.reason = reason
         super().__init__(
             f"{name}: cannot choose a friction law: {reason}; still in play: "
-            f"{', '.join(self.in_play)}; name the law (calibrate --law NAME)"
+            f"{', '.join(self.in_play)}; name the law (law='NAME'; calibrate --law NAME)"
         )
 
 
