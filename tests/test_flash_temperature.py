@@ -83,3 +83,19 @@ def test_bad_input(kwargs, match):
     args.update(kwargs)
     with pytest.raises(ValueError, match=match):
         dry_run_in_length(**args)
+
+
+@pytest.mark.parametrize(("call", "said"), [
+    (lambda: dry_run_in_length(8.0, 0.25e6, 1.5, 0.0),
+     "velocity_mps must be > 0, got velocity_mps=0"),
+    (lambda: dry_run_in_length(8.0, [0.25e6, -1.0], 1.5, 1.0),
+     "pressure_Pa must be > 0, got min(pressure_Pa)=-1"),
+    (lambda: dry_run_in_length(-2.0, 0.25e6, 1.5, 1.0), "delta_T_K must be >= 0, got delta_T_K=-2"),
+    (lambda: flash_temperature_rise(-1e-3, 0.25e6, 1.5, 1.0),
+     "length_m must be >= 0, got length_m=-0.001"),
+])
+def test_a_bad_input_is_named_with_its_value_as_a_plain_number(call, said):
+    # before: "got velocity_mps=array(0.)"
+    with pytest.raises(ValueError) as info:
+        call()
+    assert str(info.value) == said

@@ -23,6 +23,13 @@ def _check_arrays(**arrays: ArrayLike) -> dict[str, np.ndarray]:
     return {name: as_float_array(name, value) for name, value in arrays.items()}
 
 
+def _lowest(name: str, values: np.ndarray) -> str:
+    """``name=value`` of a scalar, ``min(name)=value`` of an array, as plain numbers (not
+    ``array(0.)``)."""
+    low = float(np.min(values))
+    return f"{name}={low:g}" if values.ndim == 0 else f"min({name})={low:g}"
+
+
 def flash_temperature_rise(
     length_m: ArrayLike,
     pressure_Pa: ArrayLike,
@@ -65,7 +72,7 @@ def flash_temperature_rise(
         length_m=length_m, pressure_Pa=pressure_Pa, mu_dry=mu_dry, velocity_mps=velocity_mps
     )
     if np.any(a["length_m"] < 0):
-        raise ValueError(f"length_m must be >= 0, got length_m={length_m!r}")
+        raise ValueError(f"length_m must be >= 0, got {_lowest('length_m', a['length_m'])}")
     return (
         2.0
         * heat_fraction
@@ -125,9 +132,9 @@ def dry_run_in_length(
     )
     for name in ("pressure_Pa", "mu_dry", "velocity_mps"):
         if np.any(a[name] <= 0):
-            raise ValueError(f"{name} must be > 0, got {name}={a[name]!r}")
+            raise ValueError(f"{name} must be > 0, got {_lowest(name, a[name])}")
     if np.any(a["delta_T_K"] < 0):
-        raise ValueError(f"delta_T_K must be >= 0, got delta_T_K={delta_T_K!r}")
+        raise ValueError(f"delta_T_K must be >= 0, got {_lowest('delta_T_K', a['delta_T_K'])}")
     if not (0.0 < heat_fraction <= 1.0):
         raise ValueError(f"heat_fraction must lie in (0, 1], got heat_fraction={heat_fraction!r}")
     eps = (a["delta_T_K"] / (2.0 * heat_fraction * a["mu_dry"] * a["pressure_Pa"])) ** 2 * (

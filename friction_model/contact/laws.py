@@ -142,7 +142,7 @@ class FrictionLaw(abc.ABC):
             )
         p = as_float_array("pressure_Pa", pressure_Pa)
         if np.any(p < 0):
-            raise ValueError(f"pressure_Pa must be >= 0, got min(pressure_Pa)={p.min()!r}")
+            raise ValueError(f"pressure_Pa must be >= 0, got min(pressure_Pa)={float(p.min()):g}")
         return p
 
     def mu(
@@ -917,7 +917,7 @@ def _fit_weights(
             f"sigma must be a scalar or have the shape of mu {(n,)}, got shape {s.shape}"
         ) from None
     if np.any(s <= 0):
-        raise ValueError(f"sigma must be > 0, got min(sigma)={s.min()!r}")
+        raise ValueError(f"sigma must be > 0, got min(sigma)={float(s.min()):g}")
     return 1.0 / s, True if absolute_sigma is None else bool(absolute_sigma)
 
 
