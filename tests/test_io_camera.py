@@ -505,3 +505,27 @@ def test_cine_foreign_and_broken_headers(tmp_path):
     path.write_bytes(bytes(data))
     with pytest.raises(FootageError, match=r"x\.cine: packed pixel data \(biCompression 1024"):
         open_footage(path)
+
+
+# --- a camera file that is not TIR footage -------------------------------------------------
+
+
+def test_a_field_that_is_not_tir_says_no_contact_can_be_told_apart():
+    # beam.mraw films a bright beam, not a prism's lit zone: its "free surface" reads
+    # darker than full contact itself (a reach near 2.9 against an assumed 0.97). The
+    # analysis says so; before it said resolved contact "is counted above 2.934 only"
+    # (helper-10), a darkness no contact has
+    from tir_contact import analyze_video
+
+    result = analyze_video(samples_or_skip() / "beam.cihx",
+                           overrides={"mm_per_px": 0.05, "sliding_direction": "right"})
+    note = next(w for w in result.summary["warnings"] if "do not separate" in w)
+    assert "beyond the darkness of full contact itself" in note
+    assert "no contact can be told from the free surface" in note
+    assert "counted above" not in note
+    # no contact is the truth: the bar reaches it in every frame, and the warning that no
+    # contact is found says the areas are the darkness unmixed alone (before, the 58-60 mm2
+    # stood beside "no contact found" without a word)
+    assert (result.frames["contact_area_low_mm2"] == 0.0).all()
+    found = next(w for w in result.summary["warnings"] if "no contact found" in w)
+    assert "contact_area_mm2 is the darkness unmixed alone" in found

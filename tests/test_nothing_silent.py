@@ -152,9 +152,15 @@ def test_footage_without_contact_is_warned_about(render_clip, tmp_path):
     assert not truth.in_view.any()
     res = analyze_video(folder, options=FAST)
     warnings = res.summary["warnings"]
+    # the areas are then the darkness unmixed alone: the warning gives their medians
+    med = res.frames[["contact_area_mm2", "contact_area_low_mm2",
+                      "contact_area_high_mm2"]].median()
     assert warnings[-2] == (
         f"no contact found in any of the 12 frames analysed (reference: "
-        f"{res.summary['reference']['method']})")
+        f"{res.summary['reference']['method']}): contact_area_mm2 is the darkness unmixed "
+        f"alone (median {med.iloc[0]:.3g} mm2, its bar 0-{med.iloc[2]:.3g} mm2)")
+    # and that bar holds the truth, no contact
+    assert med.iloc[1] == 0.0 and med.iloc[2] > med.iloc[0]
     # nothing moves: the free ice could as well be a contact over the whole lit zone
     # (test_static_contact_over_the_lit_zone_is_warned_about), and the warning says so
     assert res.summary["camera"] == "follows"

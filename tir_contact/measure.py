@@ -945,11 +945,18 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     threshold = max(c / 2, reach)
     separation = ((c / 2 - b) / (reach - b)) if reach > b else math.inf
     if separation <= 1.0:
-        notes.append(
-            f"contact and free surface do not separate: the free surface's darkness "
-            f"reaches {reach:.3f} (texture {texture:.3f}, offset {b:+.3f}), beyond half the "
-            f"darkness of full contact ({c / 2:.3f}); resolved contact is counted above "
-            f"{threshold:.3f} only, the rest is unmixed and its error bar is wide")
+        reaches = (f"contact and free surface do not separate: the free surface's darkness "
+                   f"reaches {reach:.3f} (texture {texture:.3f}, offset {b:+.3f}), ")
+        if reach >= c:  # no darkness a contact can have lies above the decision
+            notes.append(
+                reaches + f"beyond the darkness of full contact itself ({c:.3f}): no contact "
+                "can be told from the free surface (is this TIR footage of the lit zone?); "
+                "the area is unmixed only and its error bar is wide")
+        else:
+            notes.append(
+                reaches + f"beyond half the darkness of full contact ({c / 2:.3f}); resolved "
+                f"contact is counted above {threshold:.3f} only, the rest is unmixed and its "
+                "error bar is wide")
     model = AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c,
                       c_lo, c_hi, source, n_full, threshold, separation, notes,
                       int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
