@@ -945,24 +945,29 @@ def area_model(samples: list[np.ndarray], sigma_noise: np.ndarray, *,
     threshold = max(c / 2, reach)
     separation = ((c / 2 - b) / (reach - b)) if reach > b else math.inf
     if separation <= 1.0:
-        reaches = (f"contact and free surface do not separate: the free surface's darkness "
-                   f"reaches {reach:.3f} (texture {texture:.3f}, offset {b:+.3f}), ")
-        if reach >= c:  # no darkness a contact can have lies above the decision
-            notes.append(
-                reaches + f"beyond the darkness of full contact itself ({c:.3f}): no contact "
-                "can be told from the free surface (is this TIR footage of the lit zone?); "
-                "the area is unmixed only and its error bar is wide")
-        else:
-            notes.append(
-                reaches + f"beyond half the darkness of full contact ({c / 2:.3f}); resolved "
-                f"contact is counted above {threshold:.3f} only, the rest is unmixed and its "
-                "error bar is wide")
+        notes.append(_not_separated(reach, texture, b, c, threshold))
     model = AreaModel(b, texture, sigma_free, corr, n_free, mean, sd_all, seed, reach, c,
                       c_lo, c_hi, source, n_full, threshold, separation, notes,
                       int(min_cluster_px), bool(static), float(zone_sigma), float(zone_corr_px),
                       *(rim if rim is not None and np.any(rim[1]) else (None, None, 0)),
                       weak_plateau=weak, reach_measured=measured)
     return _graded_model(model, samples, few)
+
+
+def _not_separated(reach: float, texture: float, offset: float, full: float,
+                   threshold: float) -> str:
+    """The note of a free surface whose darkness `reaches` past half of `full` contact's:
+    resolved contact counted above the `threshold` only, or none at all where the free
+    surface reaches past full contact itself."""
+    reaches = (f"contact and free surface do not separate: the free surface's darkness "
+               f"reaches {reach:.3f} (texture {texture:.3f}, offset {offset:+.3f}), ")
+    if reach >= full:  # no darkness a contact can have lies above the decision
+        return (reaches + f"beyond the darkness of full contact itself ({full:.3f}): no "
+                "contact can be told from the free surface (is this TIR footage of the lit "
+                "zone?); the area is unmixed only and its error bar is wide")
+    return (reaches + f"beyond half the darkness of full contact ({full / 2:.3f}); resolved "
+            f"contact is counted above {threshold:.3f} only, the rest is unmixed and its "
+            "error bar is wide")
 
 
 def with_absorbed(model: AreaModel, absorbed: np.ndarray) -> AreaModel:
