@@ -337,3 +337,34 @@ def test_clip_folder_with_a_broken_meta_json_names_the_json_error(run_cli, clip,
     assert run_cli(["analyze", broken, "--out", out, *QUIET]) == 1
     message = pd.read_csv(out / "batch_report.csv").loc[0, "message"]
     assert message.startswith("meta.json: not valid JSON (Expecting ':' delimiter at line")
+
+
+def test_footage_too_noisy_to_measure_is_warned_about(render_clip, tmp_path):
+    # read noise 6 DN at white level 0.3 (free surface about 76 DN): the darkness noise is
+    # sqrt(36 + shot) / 76, about 0.085 (the renderer's figure; below), and 5 times it
+    # passes the contact threshold on most of the zone. Before, 0 mm2 against a true
+    # 100 mm2 without a word about noise (helper-11)
+    from synthetic.footage import CameraSettings
+
+    camera = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128, read_noise_dn=6.0,
+                            white_level=0.3)
+    folder = render_clip(tmp_path / "noisy", n_frames=10, camera=camera)
+    res = analyze_video(folder, options=FAST)
+    lit = res.summary["lit_zone"]
+    share = 1.0 - lit["measured_fraction"] / lit["fraction"]
+    said = [w for w in res.summary["warnings"] if "too noisy to measure" in w]
+    assert share > 0.5 and len(said) == 1
+    assert said[0].startswith(f"{100 * share:.0f} % of the lit zone is too noisy")
+    # the noise it states is the renderer's: read noise and shot noise (255 DN over a full
+    # well of 16000 e-) at the free level, which the default light field (gradient 0.15,
+    # vignetting 0.2) holds between 0.68 and 1 times the white level: the median between
+    # the noise at the white level and at 0.65 of it
+    level = camera.white_level * 255
+    at_white = np.sqrt(6.0 ** 2 + level * 255 / camera.full_well_e) / level
+    stated = float(said[0].split("darkness noise ")[1].split(",")[0])
+    assert at_white <= stated <= at_white / 0.65
+
+
+def test_a_clean_clip_says_nothing_of_noise(clip):
+    res = analyze_video(clip, options=FAST)
+    assert not any("too noisy" in w for w in res.summary["warnings"])

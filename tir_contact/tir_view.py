@@ -183,6 +183,9 @@ class TirView:
             out.append(f"contact touches the rim of the lit zone in {at_rim} of "
                        f"{len(frames)} frames: part of it may lie where too little light "
                        "reaches to see it (lit_mask.png; --lit-mask to give the zone)")
+        noisy = _too_noisy(self.tir)
+        if noisy is not None:
+            out.append(noisy)
         if self.area_model is not None and _may_fill_zone(self.tir, self.area_model):
             # the frames the bar's fill applies to (TirFrames.extra_columns: the same test)
             empty = int((~frames["block_in_view"].astype(bool)).sum())
@@ -388,6 +391,31 @@ def _union(a: tuple[slice, slice] | None, b: tuple[slice, slice] | None,
     c0 = max(min(x[1].start for x in boxes) - grow, 0)
     c1 = min(max(x[1].stop for x in boxes) + grow, shape[1])
     return slice(r0, r1), slice(c0, c1)
+
+
+#: Share of the lit zone left unmeasured (too noisy) above which the analysis says so: the
+#: area then counts contact on less than half of the zone, whatever the contact is.
+MAX_UNMEASURED_SHARE = 0.5
+
+
+def _too_noisy(t: TirReference) -> str | None:
+    """A warning when most of the lit zone is too noisy to measure
+    (:func:`tir_contact.reference.measurable`): contact there is not counted, and without
+    it the area reads low, or zero (helper-11: read noise 6 DN at white level 0.3, 0 mm2 of
+    411 without a word)."""
+    lit = t.lit.mask
+    n_lit = int(np.count_nonzero(lit))
+    if not n_lit:
+        return None
+    share = 1.0 - np.count_nonzero(t.reference.valid & lit) / n_lit
+    if share <= MAX_UNMEASURED_SHARE:
+        return None
+    sigma = t.noise.sigma_darkness(t.reference.image)[lit]
+    return (f"{100 * share:.0f} % of the lit zone is too noisy to measure (darkness noise "
+            f"{float(np.median(sigma)):.3f}, the median; a pixel is measured where its noise "
+            "times noise_sigmas stays below the contact threshold): contact there is not "
+            "counted and the area reads low; more light or a longer exposure, or a lower "
+            "AnalysisOptions(noise_sigmas=...) at the risk of noise counted as contact")
 
 
 def _tir_assumptions(t: TirReference) -> dict[str, Any]:
