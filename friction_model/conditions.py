@@ -6,7 +6,13 @@ from dataclasses import dataclass
 
 from tir_common.validate import check_nonnegative, check_positive, check_range
 
-__all__ = ["Conditions"]
+__all__ = ["PRESSURE_RANGE_PA", "Conditions"]
+
+#: Nominal pressures the model takes, Pa: 0.01-1000 bar. A tread block's lies at 0.5-10 bar
+#: (the thesis's tests 1-5 bar); a factor 100 either side leaves any real one and refuses a
+#: pressure given in the other unit (2.5 bar given as Pa is 2.5e-5 bar: mu 1.5, all dry;
+#: 2.5e5 Pa given as bar: mu 4e-6; helper-12).
+PRESSURE_RANGE_PA = (1e3, 1e8)
 
 
 @dataclass(frozen=True)
@@ -40,6 +46,14 @@ class Conditions:
     def __post_init__(self) -> None:
         check_positive("velocity_mps", self.velocity_mps)
         check_positive("pressure_Pa", self.pressure_Pa)
+        low, high = PRESSURE_RANGE_PA
+        if not low <= self.pressure_Pa <= high:
+            p = float(self.pressure_Pa)
+            raise ValueError(
+                f"pressure_Pa must lie in [{low:g}, {high:g}] (0.01-1000 bar, a tread block's "
+                f"nominal pressure), got pressure_Pa={p:g}, which is {p / 1e5:g} bar; a "
+                "pressure in bar goes through Conditions.from_bar or a pressure_bar column"
+            )
         check_range("temperature_C", self.temperature_C, -60.0, 0.0)
         check_range("humidity_pct", self.humidity_pct, 0.0, 100.0)
         check_nonnegative("salinity_pct", self.salinity_pct)

@@ -349,3 +349,39 @@ def test_a_block_that_is_neither_a_geometry_nor_a_name_is_a_clear_error():
         simulate_block("G9", COLD_DRY)
     with pytest.raises(TypeError, match=r"geometry must be a BlockGeometry or .*got int"):
         friction_table(3, [COLD_DRY])
+
+
+# --- pressures in the other unit, and a table's columns -------------------------------------
+
+
+@pytest.mark.parametrize(("make", "said"), [
+    # 2.5 bar given as Pa: before, mu 1.5 (all dry) without a word (helper-12)
+    (lambda: Conditions(1.0, 2.5, -5.0), r"got pressure_Pa=2\.5, which is 2\.5e-05 bar"),
+    # 2.5e5 Pa given as bar: before, mu 4e-6
+    (lambda: Conditions.from_bar(1.0, 2.5e5, -5.0), r"which is 250000 bar"),
+])
+def test_a_pressure_in_the_other_unit_is_refused(make, said):
+    with pytest.raises(ValueError, match=said):
+        make()
+
+
+def test_the_pressure_range_takes_every_tread_block_load():
+    # 0.5-10 bar, the tread blocks' range, and its limits 0.01 and 1000 bar
+    for bar in (0.01, 0.5, 2.5, 10.0, 1000.0):
+        assert Conditions.from_bar(1.0, bar, -5.0).pressure_bar == pytest.approx(bar)
+
+
+def test_a_table_that_gives_the_pressure_twice_must_agree():
+    row = {"velocity_mps": 1.0, "temperature_C": -5.0, "pressure_bar": 2.5}
+    same = friction_table(G3, pd.DataFrame([{**row, "pressure_Pa": 2.5e5}]))
+    assert same["mu"].iloc[0] == friction_table(G3, pd.DataFrame([row]))["mu"].iloc[0]
+    # before: the Pa column was used and pressure_bar 2.5 shown beside it (helper-12)
+    with pytest.raises(ValueError, match=r"row 0: 500000 Pa against 2\.5 bar"):
+        friction_table(G3, pd.DataFrame([{**row, "pressure_Pa": 5e5}]))
+
+
+def test_a_misspelt_condition_column_is_warned_about():
+    row = {"velocity_mps": 1.0, "temperature_C": -5.0, "pressure_bar": 2.5, "humidity": 95.0}
+    with pytest.warns(UserWarning, match="column 'humidity' is not read; did you mean "
+                                         "'humidity_pct'"):
+        friction_table(G3, pd.DataFrame([row]))

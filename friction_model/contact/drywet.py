@@ -31,7 +31,9 @@ rubber face (from TIR measurements or a pressure law), and the local pressure is
 
 from __future__ import annotations
 
+import difflib
 import math
+import warnings
 from dataclasses import dataclass, field, fields, replace
 from typing import TYPE_CHECKING, Any
 
@@ -289,6 +291,28 @@ _CONDITION_COLUMNS = (
 )
 
 
+def _check_columns(table: pd.DataFrame) -> None:
+    """A conditions table's pressure given twice must agree (else which one is used is not
+    the user's choice), and a column close to a condition's name is warned about (a
+    misspelt ``humidity`` would fall back to 50 % without a word)."""
+    if "pressure_Pa" in table and "pressure_bar" in table:
+        pa = table["pressure_Pa"].to_numpy(float)
+        bar = table["pressure_bar"].to_numpy(float)
+        if not np.allclose(pa, bar * 1e5, rtol=1e-9, atol=0.0, equal_nan=True):
+            k = int(np.flatnonzero(~np.isclose(pa, bar * 1e5, rtol=1e-9, atol=0.0))[0])
+            raise ValueError(
+                f"conditions table gives pressure_Pa and pressure_bar that disagree (row {k}: "
+                f"{pa[k]:g} Pa against {bar[k]:g} bar); give one of them"
+            )
+    known = (*_CONDITION_COLUMNS, "pressure_bar")
+    for col in table.columns:
+        if isinstance(col, str) and col not in known:
+            close = difflib.get_close_matches(col, known, n=1, cutoff=0.8)
+            if close:
+                warnings.warn(f"conditions table: column {col!r} is not read; did you mean "
+                              f"{close[0]!r}?", UserWarning, stacklevel=4)
+
+
 def _as_table(conditions: Conditions | pd.DataFrame | list[Conditions]) -> pd.DataFrame:
     if isinstance(conditions, Conditions):
         conditions = [conditions]
@@ -297,6 +321,7 @@ def _as_table(conditions: Conditions | pd.DataFrame | list[Conditions]) -> pd.Da
         table = pd.DataFrame(rows, columns=list(_CONDITION_COLUMNS))
     elif isinstance(conditions, pd.DataFrame):
         table = conditions.copy()
+        _check_columns(table)
         if "pressure_Pa" not in table and "pressure_bar" in table:
             table["pressure_Pa"] = table["pressure_bar"] * 1e5
         table = table.assign(
