@@ -375,6 +375,15 @@ def test_calibrate_on_a_synthetic_transient_table(run_cli, tmp_path, capsys):
     assert el["tip_velocity_feedback"] is False
     law = friction_law_from(read_parameters(out))
     assert_allclose(law(np.array([1.0, 5.0])), [truth["mu_before"], truth["mu_after"]], rtol=5e-3)
+    # the law rests on the step's two velocities: its range is theirs, so simulate says
+    # what lies outside (before: no range, and mu 18.9 at 0.001 m/s without a word;
+    # helper-12)
+    v = table["velocity_mps"]
+    assert read_parameters(out)["friction_law"]["velocity_range_mps"] == [v.min(), v.max()]
+    capsys.readouterr()
+    assert run_cli(["simulate", "--params", out, "--velocity", "0.01", "2",
+                    "--out", tmp_path / "sim"]) == 0
+    assert "extrapolated: mu at 0.01 m/s (fitted 1-5 m/s)" in capsys.readouterr().out
 
 
 # -- the workflows as library functions (no argparse) ----------------------------------------

@@ -535,10 +535,14 @@ def _element_and_law_sections(
         out["friction_law"] = parts["friction_law"]
     elif law_fit is not None:
         out["friction_law"] = _law_fit_section(law_fit, opts.level)
-    if "friction_law" in out and steady is not None:
+    # the velocities the law rests on: the characteristic's, else the velocity steps'
+    # (a law from the steps alone is extrapolated beyond them as much as a fitted one)
+    rests_on = ([steady.velocity_mps] if steady is not None
+                else [np.asarray(s.velocity_mps, float) for s in dynamic])
+    if "friction_law" in out and rests_on:
         out["friction_law"]["velocity_range_mps"] = [
-            float(steady.velocity_mps.min()),
-            float(steady.velocity_mps.max()),
+            float(min(np.min(v) for v in rests_on)),
+            float(max(np.max(v) for v in rests_on)),
         ]
     return out
 
