@@ -235,10 +235,21 @@ def test_read_characteristic_refuses_two_blocks_pooled(tmp_path):
         "velocity_mps": [1.0, 3.0, 1.0, 3.0], "mu_mean_method1": [0.3, 0.2, 0.2, 0.1]})
     path = tmp_path / "steady_characteristic.csv"
     table.to_csv(path, index=False)
-    with pytest.raises(ValueError, match=r"rows of 2 specimens \(G0, G3\).*"
+    with pytest.raises(ValueError, match=r"rows of 2 blocks \(G0, G3\).*"
                                          r"--select specimen=G0"):
         read_characteristic(path)
     assert_allclose(read_characteristic(path, select={"specimen": "G3"}).mu, [0.2, 0.1])
+
+
+def test_read_characteristic_refuses_the_synthetic_table_of_two_blocks():
+    # the synthetic steady table tells its blocks by n_sipes: G0 and G3 rows were fitted
+    # as one block before (helper-12); one of them is taken by its sipes
+    table = pd.DataFrame({"n_sipes": [0, 0, 3, 3], "velocity_mps": [1.0, 3.0, 1.0, 3.0],
+                          "mu": [0.3, 0.2, 0.2, 0.1]})
+    with pytest.raises(ValueError, match=r"column 'n_sipes': rows of 2 blocks \(0, 3\).*"
+                                         r"--select n_sipes=0"):
+        read_characteristic(table)
+    assert_allclose(read_characteristic(table, select={"n_sipes": 3}).mu, [0.2, 0.1])
 
 
 def test_identify_rejects_bad_requests():

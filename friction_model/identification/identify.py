@@ -318,14 +318,15 @@ def _select_rows(
 
 
 #: Columns of a characteristic that name what was measured: rows differing in one are
-#: different characteristics (another tread block), not repeats. ``condition`` is not
-#: one: it is a free grouping key, which a user may give per velocity level.
-GROUP_COLUMNS = ("specimen",)
+#: different characteristics (another tread block: the evaluation's ``specimen``, the
+#: synthetic steady table's ``n_sipes``), not repeats. ``condition`` is not one: it is a
+#: free grouping key, which a user may give per velocity level.
+GROUP_COLUMNS = ("specimen", "n_sipes")
 
 
 def _one_group(table: pd.DataFrame, src: TableSource) -> None:
-    """Refuse rows of more than one specimen: one friction law fitted to the
-    characteristics of two blocks pooled is neither of them."""
+    """Refuse rows of more than one block (:data:`GROUP_COLUMNS`): one friction law fitted
+    to the characteristics of two blocks pooled is neither of them."""
     for col in GROUP_COLUMNS:
         if col not in table.columns:
             continue
@@ -334,7 +335,7 @@ def _one_group(table: pd.DataFrame, src: TableSource) -> None:
         if len(groups) > 1:
             shown = ", ".join(groups[:4]) + (", ..." if len(groups) > 4 else "")
             raise src.error(
-                f"column '{col}': rows of {len(groups)} {col}s ({shown}); a friction law is "
+                f"column '{col}': rows of {len(groups)} blocks ({shown}); a friction law is "
                 f"fitted to one characteristic: choose one with select={{'{col}': "
                 f"'{groups[0]}'}} (the CLI's --select {col}={groups[0]})",
                 column=col,
