@@ -118,6 +118,17 @@ def test_an_option_the_source_does_not_use_is_refused(run_cli, tmp_path, capsys,
     assert not (tmp_path / "d").exists()
 
 
+def test_an_unknown_effect_name_is_a_usage_error(run_cli, tmp_path, capsys):
+    # before: exit 1 with a KeyError's repr in quotes, after the table was read (helper-12);
+    # refused before any file is read (none exists)
+    code = run_cli(["discrepancy", "--steady", tmp_path / "s.csv", "--effects",
+                    "viscous,salinity_melting_point", "--out", tmp_path / "d"])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "--effects: no effect named 'viscous'; known: " in err and "viscous_shear" in err
+    assert not (tmp_path / "d").exists()
+
+
 def test_effects_help_lists_the_built_in_effects():
     # the help lists the names without importing the model: held to the model's registry
     from friction_model import EFFECT_NAMES

@@ -258,6 +258,20 @@ def _check_options(args: argparse.Namespace) -> None:
             setattr(args, dest, value)
 
 
+def _check_effects(effects: str | None) -> None:
+    """An ``--effects`` name that no candidate has is a usage error naming the known ones
+    (it reached the workflow as a KeyError, exit 1, its repr in quotes; helper-12)."""
+    if not effects:
+        return
+    from friction_model.discrepancy import candidates
+
+    known = [c.name for c in candidates()]
+    unknown = [name for name in effects.split(",") if name not in known]
+    if unknown:
+        raise UsageError(f"--effects: no effect named {', '.join(map(repr, unknown))}; "
+                         f"known: {', '.join(sorted(known))}")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the workflow; returns the exit code (data that cannot be used is raised; an
     option the data source does not use is a usage error).
@@ -268,6 +282,7 @@ def run(args: argparse.Namespace) -> int:
     from friction_model.discrepancy import run_discrepancy, write_result
 
     _check_options(args)
+    _check_effects(args.effects)
     if args.stick_slip is not None:
         return _run_stick_slip(args)
     problem = _problem(args)
