@@ -61,3 +61,21 @@ def test_element_real_contact_fractions_for_the_renderer(preset):
     assert ratio == pytest.approx({"G0": 0.70, "G7": 0.25}[preset], abs=0.05)
     a[0] = -1.0  # a copy: the cache is not changed
     assert element_real_contact_fractions(preset, 1.0, 2.5)[0] > 0
+
+
+def test_a_reference_sample_may_be_given_by_its_block():
+    # before: "unknown reference sample 'BlockGeometry(length_mm=20.0, ...)'" (helper-12)
+    from friction_model import BlockGeometry, reference_block
+
+    by_name = element_real_contact_fractions("G3", 1.0, 2.5)
+    assert np.array_equal(element_real_contact_fractions(reference_block("G3"), 1.0, 2.5),
+                          by_name)
+    with pytest.raises(ValueError, match="preset must be a reference sample .* another block"):
+        element_real_contact_fractions(BlockGeometry(n_sipes=2), 1.0, 2.5)
+
+
+def test_step_element_takes_a_reference_sample_by_name():
+    # before: TypeError "geometry must be a BlockGeometry, got str" (helper-12)
+    from friction_model import reference_block, step_element
+
+    assert step_element(geometry="G3") == step_element(geometry=reference_block("G3"))

@@ -23,7 +23,7 @@ import pandas as pd
 from friction_model.contact.drywet import DryWetParameters, real_contact_fraction
 from friction_model.contact.laws import ExponentialLaw
 from friction_model.dynamics.rigid import BlockParams, simulate_block_dynamics
-from friction_model.geometry import reference_block
+from friction_model.geometry import REFERENCE_SAMPLES, BlockGeometry, reference_block
 
 __all__ = [
     "THESIS_CONTACT_RATIO",
@@ -126,7 +126,7 @@ def _element_real_contact(preset: str, velocity_mps: float, pressure_bar: float)
 
 
 def element_real_contact_fractions(
-    preset: str, velocity_mps: float, pressure_bar: float
+    preset: str | BlockGeometry, velocity_mps: float, pressure_bar: float
 ) -> np.ndarray:
     """Real contact fraction of each element face of a reference sample in steady sliding.
 
@@ -139,8 +139,9 @@ def element_real_contact_fractions(
 
     Parameters
     ----------
-    preset : str
-        Reference sample ``"G0"`` .. ``"G7"`` (Table 4.4).
+    preset : str or BlockGeometry
+        Reference sample ``"G0"`` .. ``"G7"`` (Table 4.4), or its block
+        (``reference_block("G3")``); the block model is that of the reference samples.
     velocity_mps : float
         Sliding velocity, m/s.
     pressure_bar : float
@@ -151,7 +152,17 @@ def element_real_contact_fractions(
     (n_elements,) ndarray
         Real contact area over the element's face area l_i w, leading element first.
     """
-    return np.array(_element_real_contact(str(preset), float(velocity_mps), float(pressure_bar)))
+    if isinstance(preset, BlockGeometry):
+        names = [name for name, block in REFERENCE_SAMPLES.items() if block == preset]
+        if not names:
+            raise ValueError("preset must be a reference sample (its name or its block: "
+                             f"{', '.join(sorted(REFERENCE_SAMPLES))}), got another block, "
+                             f"{preset!r}")
+        preset = names[0]
+    elif not isinstance(preset, str):
+        raise TypeError("preset must be a reference sample's name or block, got "
+                        f"{type(preset).__name__}")
+    return np.array(_element_real_contact(preset, float(velocity_mps), float(pressure_bar)))
 
 
 #: Contact ratios measured by TIR (section 4.3.6, Fig. 4.21): about 70 % (G0), 25 % (G7).

@@ -47,7 +47,7 @@ from friction_model.dynamics.rigid import (
     REFERENCE_YOUNGS_MODULUS_PA,
     SdofParams,
 )
-from friction_model.geometry import BlockGeometry
+from friction_model.geometry import BlockGeometry, as_geometry
 from tir_common.validate import check_nonnegative, check_positive
 
 __all__ = [
@@ -478,7 +478,7 @@ def step_element(
     n_sipes: int = 3,
     pressure_bar: float = 1.2,
     modulus_strength: float = 0.0,
-    geometry: BlockGeometry | None = None,
+    geometry: BlockGeometry | str | None = None,
 ) -> StepElement:
     """The linearised leading element of a block (Eq. 5.8) under a nominal pressure.
 
@@ -492,8 +492,8 @@ def step_element(
         F_N = p L w / (n_sipes + 1).
     modulus_strength : float
         Strength of ``frequency_dependent_modulus``, >= 0.
-    geometry : BlockGeometry, optional
-        Any block; its first element is modelled.
+    geometry : BlockGeometry or str, optional
+        Any block, or a reference sample's name (``"G3"``); its first element is modelled.
 
     Returns
     -------
@@ -512,10 +512,7 @@ def step_element(
     """
     modulus_strength = check_nonnegative("frequency_dependent_modulus", modulus_strength)
     pressure_bar = check_positive("pressure_bar", pressure_bar)
-    if geometry is None:
-        geometry = sipe_block(n_sipes)
-    elif not isinstance(geometry, BlockGeometry):
-        raise TypeError(f"geometry must be a BlockGeometry, got {type(geometry).__name__}")
+    geometry = sipe_block(n_sipes) if geometry is None else as_geometry(geometry)
     return _element(geometry, pressure_bar, modulus_strength)
 
 
