@@ -532,8 +532,8 @@ def make_transient_table(
         Sipes of the 20 mm x 80 mm block; the leading element is modelled (3: G3, the block
         of chapter 5).
     pressure_bar : float
-        Nominal pressure, bar; 1.2 bar is the 45 N per element of the chapter 5 scenario
-        (``examples/velocity_step.py``).
+        Nominal pressure, bar; 1.2 bar is 48 N per element of G3 (p L w / 4), near the
+        45 N of the chapter 5 scenario's rigid model (``examples/velocity_step.py``).
     temperature_C, humidity_pct, salinity_pct : float
         Climate of the ice, degC, %, %; defaults the HiLiTe session of Table 4.2 (the rig
         that filmed Fig. 5.7).

@@ -70,7 +70,7 @@ def test_a_reference_sample_may_be_given_by_its_block():
     by_name = element_real_contact_fractions("G3", 1.0, 2.5)
     assert np.array_equal(element_real_contact_fractions(reference_block("G3"), 1.0, 2.5),
                           by_name)
-    with pytest.raises(ValueError, match="preset must be a reference sample .* another block"):
+    with pytest.raises(ValueError, match=r"preset must be a reference sample .* another block"):
         element_real_contact_fractions(BlockGeometry(n_sipes=2), 1.0, 2.5)
 
 
