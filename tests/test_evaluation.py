@@ -81,6 +81,22 @@ def test_recovers_constant_mu(tmp_path, mu, rate):
     assert_allclose(res.normal_force_N, F_N, rtol=0.011)  # surface ripple is +-1 %
 
 
+@pytest.mark.parametrize(("flip", "said"), [
+    (("velocity_mps", "friction_force_N"), "column 'velocity_mps'.*mean -1 m/s"),
+    (("friction_force_N",), "column 'friction_force_N'.*mean -"),
+])
+def test_a_run_of_the_other_sign_convention_is_refused(tmp_path, flip, said):
+    # velocity positive in the sliding direction, friction positive against the motion
+    # (docs/formats.md): a rig logging the other way gave mu -0.43 with exit 0 (helper-12)
+    df = make_raw_run(constant(0.2), sample_rate_Hz=2000, rng=3, normal_force_N=F_N,
+                      force_noise_N=NOISE)
+    for col in flip:
+        df[col] = -df[col]
+    write_run_csv(df, tmp_path / "run.csv")
+    with pytest.raises(RunFormatError, match=said + ".*sign"):
+        evaluate_steady_run(read_run(tmp_path / "run.csv"))
+
+
 def test_methods_agree_within_footnote_7(tmp_path):
     # thesis footnote 7: both methods differ by less than 0.2 % on the evaluated measurements
     path = tmp_path / "clean.csv"

@@ -95,6 +95,25 @@ def _check_loaded(run: RigRun, start: int, stop: int, what: str) -> None:
         )
 
 
+def _check_signs(run: RigRun, start: int, stop: int) -> None:
+    """Raise the run's error when the window's mean velocity or friction force is not
+    positive: the format's convention (velocity positive in the sliding direction, friction
+    positive against the motion), which a rig logging the other way breaks (mu < 0)."""
+    for col in ("velocity_mps", "friction_force_N"):
+        mean = float(np.mean(getattr(run, col)[start:stop]))
+        if not mean > 0.0:
+            raise run.error(
+                f"column {col!r}: mean {mean:.4g} {'m/s' if col == 'velocity_mps' else 'N'} in "
+                f"the constant-velocity window ({run.where(start)} to {run.where(stop - 1)}); "
+                "the sign convention is velocity positive in the sliding direction and "
+                "friction force positive against the motion: "
+                + ("flip the signs of velocity_mps and friction_force_N"
+                   if col == "velocity_mps" else "flip the sign of friction_force_N"),
+                column=col,
+                index=start,
+            )
+
+
 def evaluate_steady_run(run: RigRun, *, window: WindowParams | None = None) -> SteadyRunResult:
     """Evaluate one steady run: constant-velocity window and both average coefficients.
 
@@ -127,6 +146,7 @@ def evaluate_steady_run(run: RigRun, *, window: WindowParams | None = None) -> S
     win = search.window
     i0, i1 = win.start, win.stop
     _check_loaded(run, i0, i1, "constant-velocity window")
+    _check_signs(run, i0, i1)
     tw = t[i0:i1]
     ff = run.friction_force_N[i0:i1]
     fn = run.normal_force_N[i0:i1]
