@@ -215,6 +215,9 @@ class BlockLayout:
         position (deflection).
     center_time_s : float, optional
         Time at which the block centre passes the image centre, s.
+    camera_follows : bool
+        The camera moves with the carrier (the TIR analysis's camera mode ``"follows"``):
+        the undeformed block stays where it is at `center_time_s`, the image centre.
 
     Examples
     --------
@@ -234,6 +237,7 @@ class BlockLayout:
     height_mm: float | None = None
     velocity_mps: float | None = None
     center_time_s: float | None = None
+    camera_follows: bool = False
 
     def __post_init__(self) -> None:
         put = object.__setattr__
@@ -348,7 +352,10 @@ class BlockLayout:
         """Image x of the undeformed block front at `time_s`, mm (NaN when not known).
 
         The block centre passes the image centre at ``center_time_s`` with ``velocity_mps``
-        along the sliding direction (the convention of :mod:`synthetic.footage`).
+        along the sliding direction (the convention of :mod:`synthetic.footage`); a camera
+        that follows the carrier keeps it there (`camera_follows`: before, the travel of a
+        fixed camera was taken, and a following camera's angles read 1.4 for 11.4 deg and
+        23.2 for 12.9 deg; helper-11).
         """
         if (
             time_s is None
@@ -358,7 +365,8 @@ class BlockLayout:
         ):
             return _NAN
         s = 1.0 if self.sliding_direction == "left" else -1.0
-        travel_mm = self.velocity_mps * 1e3 * (float(time_s) - self.center_time_s)
+        travel_mm = (0.0 if self.camera_follows
+                     else self.velocity_mps * 1e3 * (float(time_s) - self.center_time_s))
         return 0.5 * image_width_mm - s * travel_mm - s * 0.5 * self.block_length_mm
 
     @functools.cached_property

@@ -8,6 +8,7 @@ and returns a :class:`VideoSetup`, everything the per-frame step
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -251,6 +252,8 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     else:
         view_obj, notes = SideView.prepare(samples, shape, contact_is, options)
     layout = BlockLayout.from_meta(meta)
+    if view == "tir" and view_obj.camera == "follows":
+        layout = dataclasses.replace(layout, camera_follows=True)
     return VideoSetup(meta, view_obj, contact_is, float(meta["fps"]), float(meta["mm_per_px"]),
                       layout, n, shape, max_dn, skipped, numbers, bad, grey_range, notes)
 
