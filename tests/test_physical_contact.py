@@ -502,7 +502,8 @@ def test_synth_empty_frame_is_the_reference_the_analysis_takes(run_cli, capsys, 
     # a moving block has no empty frame to render: a usage error (exit code 2)
     code = run_cli(["synth", "footage", "--frames", "2", "--empty-frame", "--out",
                     tmp_path / "block"])
-    assert code == 2 and "--empty-frame needs a static scene" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert code == 2 and "--empty-frame is rendered for the static scenes whose light" in err
 
 
 @needs_tamaas

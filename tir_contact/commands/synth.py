@@ -419,8 +419,9 @@ def _run_footage(args: argparse.Namespace) -> int:
         raise UsageError(f"{', '.join(unused)} not used by --scene {spec.scene} "
                          f"(--view {spec.view}, --real-contact {spec.real_contact})")
     if args.empty_frame and spec.scene not in EMPTY_REFERENCE_SCENES:
-        raise UsageError(f"--empty-frame needs a static scene "
-                         f"({', '.join(EMPTY_REFERENCE_SCENES)}), got --scene {spec.scene}")
+        raise UsageError(f"--empty-frame is rendered for the static scenes whose light does "
+                         f"not depend on the contact ({', '.join(EMPTY_REFERENCE_SCENES)}), "
+                         f"got --scene {spec.scene}")
     path = render_footage(spec, args.out, fmt=fmt)
     what = args.preset if spec.scene == "block" else f"the {spec.scene} scene"
     print(f"footage: rendered {spec.n_frames} frames ({fmt}) of {what} to {path}")
