@@ -725,6 +725,10 @@ def _optics_level(c: float, c_hi: float, sigma: float,
     clears = c - PLATEAU_CLEARANCE_SIGMAS * sigma >= c_opt / 2
     if not c < c_opt or not (clears or excess() >= NEIGHBOUR_EXCESS):
         return c, c_hi, "measured"
+    if c_hi >= c_opt:
+        # the interiors' own range reaches the optics' value: they agree, nothing to say
+        # (a note for 0.977 against 0.9779 told the user nothing; helper-11)
+        return c_opt, c_hi, "optics"
     notes.append(
         f"full contact's darkness read on the resolved interiors ({c:.3f}) lies below the "
         f"optics' value ({c_opt:.4g}"
