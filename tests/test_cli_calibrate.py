@@ -480,6 +480,18 @@ def test_block_geometry_from_meta_derives_element_lengths_in_one_place():
     assert block_geometry_from_meta({"block": {"length_mm": 20.0}}) == reference_block("G3")
 
 
+def test_the_setting_a_range_was_measured_at_is_not_an_extrapolation(tmp_path):
+    # the range's ends are the runs' measured means (4.99998 m/s for a 5 m/s setting):
+    # 5 m/s was listed as extrapolated (helper-12); 5.1 m/s is
+    path = write_parameters(
+        tmp_path / "p.json",
+        friction_law={"law": "DecreasingSqrtLaw", "params": LAW.params,
+                      "velocity_range_mps": [0.99998, 4.99998]})
+    assert simulate_calibrated(path, velocities_mps=[1.0, 5.0]).extrapolated_mps == ()
+    assert simulate_calibrated(path, velocities_mps=[0.98, 5.1]).extrapolated_mps == (
+        0.98, 5.1)
+
+
 def test_simulate_calibrated_returns_what_the_model_gives_directly(tmp_path):
     """mu(v) is the law, the step response is linear_element_response on the same inputs,
     e(phi) is Eq. 5.21; a path and the file's contents give the same run."""
