@@ -469,6 +469,13 @@ def make_steady_table(
     # per-run relative scatter sqrt(n) * noise, so the mean of n runs has relative std noise
     eps = gen.standard_normal((len(table), n_repeats)) * (noise * math.sqrt(n_repeats))
     table["mu"] = mu_model * (1.0 + eps.mean(axis=1))
+    negative = int((table["mu"] <= 0).sum())
+    if negative:
+        # the readers refuse mu <= 0 (steady tables): a table they cannot read is no data
+        raise ValueError(
+            f"noise={noise:g} puts mu <= 0 in {negative} of {len(table)} rows (a relative "
+            "spread that wide reaches below zero), which the steady-table reader refuses; "
+            "give a noise below 0.2 (a row then falls below zero with probability 3e-7)")
     table["mu_std"] = mu_model * eps.std(axis=1, ddof=1) / math.sqrt(n_repeats)
     table.attrs["truth"] = {"mu_model": mu_model.tolist()}
     logger.debug("steady table: %d rows, noise %g", len(table), noise)

@@ -459,3 +459,11 @@ def test_raw_output_refuses_a_folder_with_other_runs(tmp_path):
         write_measurements("raw", tmp_path / "runs", seed=1, **opts)
     # rewriting the same set of files is fine (same names, replaced)
     write_measurements("raw", tmp_path / "runs", seed=1, **dict(opts, n_repeats=3))
+
+
+def test_a_noise_that_makes_mu_negative_is_refused():
+    # --noise 5 wrote 94 rows of mu <= 0 with exit 0, which discrepancy then refused
+    # (helper-12); at 0.2 a row falls below zero with probability 3e-7 (5 sigma)
+    with pytest.raises(ValueError, match=r"noise=5 puts mu <= 0 in \d+ of 216 rows"):
+        make_steady_table(noise=5.0, rng=1)
+    assert (make_steady_table(noise=0.2, rng=1)["mu"] > 0).all()
