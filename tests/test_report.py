@@ -178,6 +178,8 @@ def test_report_of_a_folder_without_results_is_a_usage_error(run_cli, tmp_path, 
     assert run_cli(["report", tmp_path]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and str(tmp_path) in err[0] and "no analysis results" in err[0]
+    # it reads evaluate folders too, and says what it looked for there (helper-12)
+    assert "no evaluation results (no provenance.json" in err[0]
 
 
 def test_evaluate_writes_a_report_with_every_run(run_cli, write_ramp_run, tmp_path, capsys):

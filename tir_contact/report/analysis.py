@@ -307,7 +307,8 @@ def write_analysis_report(folder: str | os.PathLike[str]) -> Path:
     clips = collect_clips(root)
     if not clips:
         raise ValueError(f"{root}: no analysis results (no batch_report.json, no "
-                         "<clip>/summary.json)")
+                         "<clip>/summary.json) and no evaluation results (no "
+                         "provenance.json, no steady_characteristic.csv)")
     counts: dict[str, int] = {}
     for c in clips:
         counts[c.status] = counts.get(c.status, 0) + 1
