@@ -108,6 +108,13 @@ STEADY_DEFECTS = [
     ("mu", 5, "-0.1", "expected a number > 0, got -0.1"),
     ("n_sipes", 7, "2.5", "expected an integer >= 0, got 2.5"),
     ("mu_std", 2, "-0.01", "expected a number >= 0, got -0.01"),
+    # the model's conditions: a temperature in kelvin stopped at an effect's bound on the
+    # salinity before, naming no row (helper-12)
+    ("temperature_C", 4, "268.15", "expected a temperature in degC in [-60, 0] (ice below "
+     "its melting point; kelvin?), got 268.15"),
+    ("pressure_bar", 1, "250000", "expected a pressure in bar in [0.01, 1000], got 250000.0"),
+    ("humidity_pct", 3, "140", "expected a relative humidity in % in [0, 100], got 140.0"),
+    ("velocity_mps", 0, "0", "expected a number > 0, got 0.0"),
 ]
 
 
