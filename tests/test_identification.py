@@ -252,6 +252,16 @@ def test_read_characteristic_refuses_the_synthetic_table_of_two_blocks():
     assert_allclose(read_characteristic(table, select={"n_sipes": 3}).mu, [0.2, 0.1])
 
 
+def test_a_normal_force_in_the_wrong_unit_is_named_with_the_buckling():
+    # pressure_bar 1.2e5 (Pa given as bar) made F_N 91000 N: "the element buckles" named
+    # neither the force nor a unit (helper-12)
+    t = np.linspace(0, 0.01, 20)
+    v = np.where(t < 0.005, 1.0, 3.0)
+    s = DeflectionSeries(t, np.zeros(20), v, 9.1e4)
+    with pytest.raises(ValueError, match=r"buckles under F_N = 9\.1e\+04 N: .*\(N, bar\)"):
+        identify_parameters([s], law=LAW_TRUE)
+
+
 def test_identify_rejects_bad_requests():
     t = np.linspace(0, 0.01, 20)
     s = DeflectionSeries(t, np.zeros(20), 1.0, F_N)

@@ -342,8 +342,8 @@ def _element(geometry: BlockGeometry, pressure_bar: float, modulus_strength: flo
     if c_phi - geometric <= 0:
         raise ValueError(
             f"the element buckles: F_N d = {normal_force * height:.4g} N m at pressure_bar="
-            f"{pressure_bar} exceeds its rotational stiffness {c_phi:.4g} N m/rad; lower "
-            "pressure_bar"
+            f"{pressure_bar:g} exceeds its rotational stiffness {c_phi:.4g} N m/rad; lower "
+            "pressure_bar (is it in bar?)"
         )
 
     def frequency(ratio: float) -> float:

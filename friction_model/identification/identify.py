@@ -501,8 +501,10 @@ def linear_element_response(
     c_eff = sdof.spring_constant_Nm_rad - fn * d + sdof.mass_kg * sdof.gravity_mps2 * d / 2.0
     if c_eff <= 0:
         raise ValueError(
-            f"the element buckles: F_N d = {fn * d:.4g} N m exceeds its rotational stiffness "
-            f"{c_eff + fn * d:.4g} N m/rad (E = {sdof.youngs_modulus_Pa:.4g} Pa)"
+            f"the element buckles under F_N = {fn:.4g} N: F_N d = {fn * d:.4g} N m exceeds its "
+            f"rotational stiffness {c_eff + fn * d:.4g} N m/rad (E = "
+            f"{sdof.youngs_modulus_Pa:.4g} Pa); is the normal force, or the pressure it is "
+            "made of, in its unit (N, bar)?"
         )
     tau = float(relaxation_time_s)
     relaxed = tau > 0
