@@ -377,6 +377,25 @@ def test_a_following_camera_measures_the_angle_against_a_block_that_stays(render
     assert err.notna().all() and err.abs().median() <= math.degrees(math.atan(0.1 / 6.0))
 
 
+@pytest.mark.parametrize("center_time_s", [-0.003, 0.003])
+def test_one_frame_of_a_fixed_camera_keeps_the_carriers_travel(render_clip, tmp_path,
+                                                               center_time_s):
+    """One frame 3 ms off center_time_s (the block 3 mm off the image centre): auto mode
+    says "follows" without evidence of motion, and the angle must still be read against
+    the carrier's travel (the review of c47cd8c: -19.6 and 32.8 deg for a true 7.8 while
+    auto's guess pinned the block). Required: one pixel's angle (0.95 deg), as above."""
+    from synthetic.footage import CameraSettings
+
+    folder = render_clip(tmp_path / "one", n_frames=1, velocity_mps=1.0,
+                         center_time_s=center_time_s, camera=CameraSettings())
+    truth = pd.read_csv(folder / "ground_truth.csv")
+    block = truth[truth.element == -1].set_index("frame")
+    res = analyze_video(folder, options=FAST)
+    assert res.summary["camera"] == "follows"
+    err = res.frames.set_index("frame").deflection_angle_deg - block.deflection_angle_deg
+    assert err.notna().all() and err.abs().max() <= math.degrees(math.atan(0.1 / 6.0))
+
+
 # with -m slow: test_side holds side-view angles to the truth and test_side_holder runs
 # side views through analyze_video in the default run
 @pytest.mark.slow

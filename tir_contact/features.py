@@ -61,7 +61,8 @@ towards smaller x (the leading side is on the left); positions are mirrored back
    the carrier (undeformed block) moves as the renderer's convention says, the block centre
    passing the image centre at ``center_time_s``; the undeformed front of element ``i`` in
    image x is ``x_c - s v (t - t_c) - s L/2 + s P_i`` with ``s = +1`` sliding left, ``-1``
-   right, ``x_c`` the image centre and ``L`` the block length. The trailing displacement of
+   right, ``x_c`` the image centre and ``L`` the block length; with a camera given as
+   following the carrier (``--camera follows``) the travel term is 0. The trailing displacement of
    the element's leading bottom corner, ``tip_deflection_mm = s (x_front - x_undeformed)``,
    approximates the tip deflection, and ``deflection_angle_deg = atan(tip / height_mm)``.
 
@@ -216,8 +217,8 @@ class BlockLayout:
     center_time_s : float, optional
         Time at which the block centre passes the image centre, s.
     camera_follows : bool
-        The camera moves with the carrier (the TIR analysis's camera mode ``"follows"``):
-        the undeformed block stays where it is at `center_time_s`, the image centre.
+        The camera moves with the carrier (given as ``camera="follows"``): the undeformed
+        block stays where it is at `center_time_s`, the image centre.
 
     Examples
     --------

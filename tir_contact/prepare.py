@@ -252,7 +252,10 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     else:
         view_obj, notes = SideView.prepare(samples, shape, contact_is, options)
     layout = BlockLayout.from_meta(meta)
-    if view == "tir" and view_obj.camera == "follows":
+    if view == "tir" and options.camera == "follows":
+        # only a following camera given as such: auto's "follows" is also its answer
+        # without evidence of motion (one frame, a short or slow pass of a fixed camera),
+        # whose frames off centre_time_s the carrier's travel places right
         layout = dataclasses.replace(layout, camera_follows=True)
     return VideoSetup(meta, view_obj, contact_is, float(meta["fps"]), float(meta["mm_per_px"]),
                       layout, n, shape, max_dn, skipped, numbers, bad, grey_range, notes)
