@@ -17,8 +17,8 @@ run files do not record it; ``--pressure-bar`` and ``--n-sipes`` override), tran
 tables (``time_s, velocity_mps, angle_deg``), pipeline outputs (``elements.csv`` or an
 analyze result folder of side-view footage, with the commanded ``--velocity-step`` and
 ``--step-time``), or a measured stick-slip frequency and one simulated with a constant
-modulus E0 (the thesis's 1500 and 1111 Hz; the candidate's plausible strength is then the
-compound's own E(f), 1, plus the extra of a tan(delta) up to 0.3: 1.60). ``--params`` (from
+modulus E0 (the thesis's 1500 and 1111 Hz; the candidate's plausible strength is then that
+of a compound with tan(delta) up to 0.3: 1.48, the one rubber being 1). ``--params`` (from
 ``tir-contact calibrate``) sets the real contact fraction of the dry/wet model from the
 measured contact (steady tables only: the transient and element problems do not evaluate the
 dry/wet model). Writes ``result.json``, ``report.md`` and PNG plots to DIR and prints the
@@ -220,9 +220,9 @@ def _run_stick_slip(args: argparse.Namespace) -> int:
     measured, simulated = args.stick_slip
     sigma = THESIS_SIGMA_HZ * measured / 1500.0
     # the simulated frequency has a constant modulus E0 (the thesis's 1111 Hz): the
-    # candidate's plausible strength is the compound's own E(f) (1) and the extra of a
-    # tan(delta) up to 0.3 on top; a gap it could close only beyond that is an unexplained
-    # residual, not a fit
+    # candidate's plausible strength is that of a compound with tan(delta) up to 0.3 in the
+    # effect's first-order form (1.48; strength 1 is the one rubber's tan(delta) 0.2); a gap
+    # it could close only beyond that is an unexplained residual, not a fit
     case = stick_slip_case(StickSlipProblem(
         measured, simulated, sigma_Hz=sigma,
         max_plausible_strength=PLAUSIBLE_MODULUS_STRENGTH_ON_E0))
