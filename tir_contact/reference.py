@@ -1063,6 +1063,52 @@ def _translates(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
     return _travel(samples, median, lit, contact_is) >= MIN_TRAVEL_FRACTION
 
 
+#: A block the samples hold is bordered by the pixels its edges sweep: within this many
+#: px outside it (:func:`_held`).
+HELD_BORDER_PX = 5
+
+
+def _held(cand: np.ndarray, samples: list[np.ndarray], bright: np.ndarray, lit: np.ndarray,
+          min_darkness: float, contact_is: str = "dark") -> np.ndarray:
+    """The regions of `cand` (dark regions of the fixed camera's percentile image `bright`)
+    that a passing block holds in every sample.
+
+    A pixel is swept where some sample is darker than `bright` by `min_darkness` (free in
+    enough samples to set the percentile, covered in one; a 3 x 3 opening takes out single
+    noise pixels). A held block covers its pixels in every sample, so none of them is
+    swept, and its leading and trailing edges sweep the pixels beside it: a region is held
+    where less than half of its core (the pixels :data:`HELD_BORDER_PX` inside its edge,
+    or its inner half where it is narrower) is swept and at least half of the lit pixels within
+    :data:`HELD_BORDER_PX` outside it are (the region also holds the columns the block
+    covers in all but a sample or two, swept, around a core swept nowhere: 6 % of a G0
+    band's interior at 3 m/s in 10 frames). A static dark patch of
+    the light field or of the ice (a shadow, frost, a mark on the prism) is swept nowhere
+    around it, or, where the block passes over it, inside it too (the review of 4aafa86:
+    a 120 px patch of darkness 0.5 read as contact in every frame, +19 %).
+    """
+    out = np.zeros(cand.shape, bool)
+    if not cand.any():
+        return out
+    swept = np.zeros(cand.shape, np.uint8)
+    for dark in _departures(samples, bright, bright, lit, contact_is):
+        swept |= (dark > min_darkness).view(np.uint8)
+    swept = cv2.morphologyEx(swept, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)).view(bool)
+    n, lab = cv2.connectedComponents(cand.view(np.uint8), connectivity=8)
+    ring_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * HELD_BORDER_PX + 1,) * 2)
+    for k in range(1, n):
+        region = lab == k
+        ring = cv2.dilate(region.view(np.uint8), ring_kernel).view(bool) & ~region & lit
+        # its core: the pixels at least HELD_BORDER_PX inside its edge, or in a narrower
+        # region (an element band of a fine view) the inner half of its width
+        depth = cv2.distanceTransform(region.view(np.uint8), cv2.DIST_L2, 3)
+        inner = depth >= min(float(HELD_BORDER_PX), 0.5 * float(depth.max()))
+        if (ring.any() and inner.any()
+                and np.count_nonzero(swept & inner) < 0.5 * np.count_nonzero(inner)
+                and np.count_nonzero(swept & ring) >= 0.5 * np.count_nonzero(ring)):
+            out |= region
+    return out
+
+
 def _residuals(samples: list[np.ndarray], free: np.ndarray,
                min_darkness: float = math.inf) -> list[np.ndarray]:
     """Noise residuals: differences of consecutive samples / sqrt(2), or frame - free.
@@ -1170,17 +1216,35 @@ def tir_reference(
         cand = np.zeros(shape, bool)
         if mode == "fixed" and len(frames) >= 5:
             free, method = bright, "percentile"
-            # does the percentile image still hold the block (a slow pass, or a short
-            # clip: pixels the block covers in every sample)? The grown estimate tells: a
-            # block wider than the first disc leaves no candidate in its closing (a G0
-            # block, one 20 mm element, passing 2.5 mm in 10 frames: read as free surface,
-            # 55 of 512 mm2), and the grown disc finds it
+            # does the percentile image still hold the block (a slow pass)? One closing
+            # tells; the grown estimate only when it does
             need = min_block_fraction * max(1, mask.sum())
             fs = free_surface(bright, mask, contact_is=contact_is,
-                              candidate_darkness=min_darkness, texture=False)
+                              candidate_darkness=min_darkness, grow=False, texture=False)
             if fs.candidates.sum() > need:
-                free, cand = fs.image, fs.candidates
-                method = "percentile, the block it still holds replaced by a fitted surface"
+                fs = free_surface(bright, mask, contact_is=contact_is,
+                                  candidate_darkness=min_darkness, texture=False)
+                if fs.candidates.sum() > need:
+                    free, cand = fs.image, fs.candidates
+                    method = ("percentile, the block it still holds replaced by a fitted "
+                              "surface")
+            else:
+                # a block wider than the first disc that the samples hold leaves no
+                # candidate in its closing (a G0 block, one 20 mm element, passing 2.5 mm
+                # in 10 frames: read as free surface, 55 of 512 mm2): the grown estimate
+                # finds dark regions of any width, and of them the ones a passing block
+                # holds are replaced (_held: a static dark patch of the light or the ice,
+                # which the grown disc finds as well, is not)
+                fs = free_surface(bright, mask, contact_is=contact_is,
+                                  candidate_darkness=min_darkness, texture=False)
+                held = _held(fs.candidates, frames, bright, mask, min_darkness, contact_is)
+                if held.sum() > need:
+                    near = cv2.dilate(held.view(np.uint8), np.ones(
+                        (2 * MARGIN_PX + 1,) * 2, np.uint8)).view(bool)
+                    free = np.where(near, fs.image, bright).astype(np.float32)
+                    cand = held
+                    method = ("percentile, the block it holds in every sample replaced by "
+                              "a fitted surface")
             if contact_is == "dark":
                 # the noise model's residuals (frame differences: the free surface's scale
                 # does not enter) also set the excess's tile test
