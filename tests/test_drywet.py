@@ -1,6 +1,7 @@
 """The dry run-in / wet friction model (section 4.5.1) against independent truths."""
 
 import math
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -384,4 +385,14 @@ def test_a_misspelt_condition_column_is_warned_about():
     row = {"velocity_mps": 1.0, "temperature_C": -5.0, "pressure_bar": 2.5, "humidity": 95.0}
     with pytest.warns(UserWarning, match="column 'humidity' is not read; did you mean "
                                          "'humidity_pct'"):
+        friction_table(G3, pd.DataFrame([row]))
+
+
+def test_a_column_beside_the_one_it_resembles_is_not_warned_about():
+    # 'velocity_mps_std' next to 'velocity_mps' is the user's own column (the review of
+    # 3824031); a bar value rounded to three figures agrees with its Pa within 1 %
+    row = {"velocity_mps": 1.0, "velocity_mps_std": 0.01, "temperature_C": -5.0,
+           "pressure_bar": 1.235, "pressure_Pa": 123456.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         friction_table(G3, pd.DataFrame([row]))

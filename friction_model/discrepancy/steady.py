@@ -180,7 +180,9 @@ def read_steady_table(
     ValueError
         Naming the file, the column, the data row and file line and what was expected: a
         missing column, fewer than 4 rows, an entry that is not a finite number, mu <= 0,
-        n_sipes not an integer >= 0, mu_std < 0.
+        n_sipes not an integer >= 0, mu_std < 0, a row's conditions outside the model's
+        (velocity <= 0, pressure outside 0.01-1000 bar, temperature outside -60-0 degC,
+        humidity outside 0-100 %, salinity outside 0-3.5 %).
     OSError
         When the file cannot be opened.
     """

@@ -238,7 +238,7 @@ def read_characteristic(
     ------
     ValueError
         Missing columns, unknown ``select`` columns, no rows left, or rows of more than one
-        ``specimen`` (naming the file).
+        block (:data:`GROUP_COLUMNS`: ``specimen``, ``n_sipes``; naming the file).
     """
     table, src = _read_csv(source)
     evaluation = "mu_mean_method1" in table.columns and "mu" not in table.columns

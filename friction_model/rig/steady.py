@@ -98,20 +98,30 @@ def _check_loaded(run: RigRun, start: int, stop: int, what: str) -> None:
 def _check_signs(run: RigRun, start: int, stop: int) -> None:
     """Raise the run's error when the window's mean velocity or friction force is not
     positive: the format's convention (velocity positive in the sliding direction, friction
-    positive against the motion), which a rig logging the other way breaks (mu < 0)."""
-    for col in ("velocity_mps", "friction_force_N"):
-        mean = float(np.mean(getattr(run, col)[start:stop]))
-        if not mean > 0.0:
-            raise run.error(
-                f"column {col!r}: mean {mean:.4g} {'m/s' if col == 'velocity_mps' else 'N'} in "
-                f"the constant-velocity window ({run.where(start)} to {run.where(stop - 1)}); "
-                "the sign convention is velocity positive in the sliding direction and "
-                "friction force positive against the motion: "
-                + ("flip the signs of velocity_mps and friction_force_N"
-                   if col == "velocity_mps" else "flip the sign of friction_force_N"),
-                column=col,
-                index=start,
-            )
+    positive against the motion), which a rig logging the other way breaks (mu < 0). The
+    advice follows the signs found: both negative, both columns flipped; one, that one;
+    a velocity of 0, no motion."""
+    means = {col: float(np.mean(getattr(run, col)[start:stop]))
+             for col in ("velocity_mps", "friction_force_N")}
+    bad = [col for col, mean in means.items() if not mean > 0.0]
+    if not bad:
+        return
+    col = bad[0]
+    if means["velocity_mps"] == 0.0:
+        advice = "the carriage does not move in it"
+    elif len(bad) == 2:
+        advice = "flip the signs of velocity_mps and friction_force_N"
+    else:
+        advice = f"flip the sign of {col}"
+    unit = "m/s" if col == "velocity_mps" else "N"
+    raise run.error(
+        f"column {col!r}: mean {means[col]:.4g} {unit} in the constant-velocity window "
+        f"({run.where(start)} to {run.where(stop - 1)}); the sign convention is velocity "
+        "positive in the sliding direction and friction force positive against the motion: "
+        + advice,
+        column=col,
+        index=start,
+    )
 
 
 def evaluate_steady_run(run: RigRun, *, window: WindowParams | None = None) -> SteadyRunResult:
@@ -132,8 +142,9 @@ def evaluate_steady_run(run: RigRun, *, window: WindowParams | None = None) -> S
     Raises
     ------
     RunFormatError
-        When no constant-velocity phase is found, or the normal force is ``<= 0`` inside the
-        window; the message names file, column and row.
+        When no constant-velocity phase is found, the normal force is ``<= 0`` inside the
+        window, or the window's mean velocity or friction force is not positive (the sign
+        convention); the message names file, column and row.
     """
     params = window if window is not None else WindowParams()
     t = run.time_s

@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from tir_contact.report.analysis import collect_clips, write_analysis_report
+from tir_contact.report.analysis import NoResultsError, collect_clips, write_analysis_report
 from tir_contact.report.evaluation import write_evaluation_report
 
 __all__ = ["REPORT_FILENAME", "collect_clips", "write_analysis_report",
@@ -48,4 +48,8 @@ def write_report(folder: str | os.PathLike[str]) -> Path:
         raise ValueError(f"{root}: not a folder (expected an analyze or evaluate --out folder)")
     if (root / "provenance.json").is_file() or (root / "steady_characteristic.csv").is_file():
         return write_evaluation_report(root)
-    return write_analysis_report(root)
+    try:
+        return write_analysis_report(root)
+    except NoResultsError as exc:  # neither kind: what was looked for of both
+        raise ValueError(f"{exc} and no evaluation results (no provenance.json, no "
+                         "steady_characteristic.csv)") from None

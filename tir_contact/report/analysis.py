@@ -78,6 +78,10 @@ class Clip:
         return RANK.get(key, 0)
 
 
+class NoResultsError(ValueError):
+    """A folder without analysis results (:func:`write_analysis_report`)."""
+
+
 def _read_json(path: Path) -> Any:
     try:
         return json.loads(path.read_text(encoding="utf-8"))
@@ -306,9 +310,8 @@ def write_analysis_report(folder: str | os.PathLike[str]) -> Path:
     root = Path(folder)
     clips = collect_clips(root)
     if not clips:
-        raise ValueError(f"{root}: no analysis results (no batch_report.json, no "
-                         "<clip>/summary.json) and no evaluation results (no "
-                         "provenance.json, no steady_characteristic.csv)")
+        raise NoResultsError(f"{root}: no analysis results (no batch_report.json, no "
+                             "<clip>/summary.json)")
     counts: dict[str, int] = {}
     for c in clips:
         counts[c.status] = counts.get(c.status, 0) + 1
