@@ -1109,6 +1109,45 @@ def _held(cand: np.ndarray, samples: list[np.ndarray], bright: np.ndarray, lit: 
     return out
 
 
+def _fixed_free(bright: np.ndarray, frames: list[np.ndarray], mask: np.ndarray,
+                contact_is: str, min_darkness: float, min_block_fraction: float
+                ) -> tuple[np.ndarray, np.ndarray, str]:
+    """A fixed camera's free surface: the percentile image `bright`, where it still holds
+    the block replaced by a fitted surface; ``(free, candidates, method)``."""
+    cand = np.zeros(bright.shape, bool)
+    free, method = bright, "percentile"
+    # does the percentile image still hold the block (a slow pass)? One closing
+    # tells; the grown estimate only when it does
+    need = min_block_fraction * max(1, mask.sum())
+    fs = free_surface(bright, mask, contact_is=contact_is,
+                      candidate_darkness=min_darkness, grow=False, texture=False)
+    if fs.candidates.sum() > need:
+        fs = free_surface(bright, mask, contact_is=contact_is,
+                          candidate_darkness=min_darkness, texture=False)
+        if fs.candidates.sum() > need:
+            free, cand = fs.image, fs.candidates
+            method = ("percentile, the block it still holds replaced by a fitted "
+                      "surface")
+    else:
+        # a block wider than the first disc that the samples hold leaves no
+        # candidate in its closing (a G0 block, one 20 mm element, passing 2.5 mm
+        # in 10 frames: read as free surface, 55 of 512 mm2): the grown estimate
+        # finds dark regions of any width, and of them the ones a passing block
+        # holds are replaced (_held: a static dark patch of the light or the ice,
+        # which the grown disc finds as well, is not)
+        fs = free_surface(bright, mask, contact_is=contact_is,
+                          candidate_darkness=min_darkness, texture=False)
+        held = _held(fs.candidates, frames, bright, mask, min_darkness, contact_is)
+        if held.sum() > need:
+            near = cv2.dilate(held.view(np.uint8), np.ones(
+                (2 * MARGIN_PX + 1,) * 2, np.uint8)).view(bool)
+            free = np.where(near, fs.image, bright).astype(np.float32)
+            cand = held
+            method = ("percentile, the block it holds in every sample replaced by "
+                      "a fitted surface")
+    return free, cand, method
+
+
 def _residuals(samples: list[np.ndarray], free: np.ndarray,
                min_darkness: float = math.inf) -> list[np.ndarray]:
     """Noise residuals: differences of consecutive samples / sqrt(2), or frame - free.
@@ -1213,38 +1252,9 @@ def tir_reference(
             mode = ("fixed" if len(frames) >= 2 and (_moving(
                 frames, median, bright, mask, min_darkness, min_block_fraction, contact_is)
                 or _translates(frames, median, mask, contact_is)) else "follows")
-        cand = np.zeros(shape, bool)
         if mode == "fixed" and len(frames) >= 5:
-            free, method = bright, "percentile"
-            # does the percentile image still hold the block (a slow pass)? One closing
-            # tells; the grown estimate only when it does
-            need = min_block_fraction * max(1, mask.sum())
-            fs = free_surface(bright, mask, contact_is=contact_is,
-                              candidate_darkness=min_darkness, grow=False, texture=False)
-            if fs.candidates.sum() > need:
-                fs = free_surface(bright, mask, contact_is=contact_is,
-                                  candidate_darkness=min_darkness, texture=False)
-                if fs.candidates.sum() > need:
-                    free, cand = fs.image, fs.candidates
-                    method = ("percentile, the block it still holds replaced by a fitted "
-                              "surface")
-            else:
-                # a block wider than the first disc that the samples hold leaves no
-                # candidate in its closing (a G0 block, one 20 mm element, passing 2.5 mm
-                # in 10 frames: read as free surface, 55 of 512 mm2): the grown estimate
-                # finds dark regions of any width, and of them the ones a passing block
-                # holds are replaced (_held: a static dark patch of the light or the ice,
-                # which the grown disc finds as well, is not)
-                fs = free_surface(bright, mask, contact_is=contact_is,
-                                  candidate_darkness=min_darkness, texture=False)
-                held = _held(fs.candidates, frames, bright, mask, min_darkness, contact_is)
-                if held.sum() > need:
-                    near = cv2.dilate(held.view(np.uint8), np.ones(
-                        (2 * MARGIN_PX + 1,) * 2, np.uint8)).view(bool)
-                    free = np.where(near, fs.image, bright).astype(np.float32)
-                    cand = held
-                    method = ("percentile, the block it holds in every sample replaced by "
-                              "a fitted surface")
+            free, cand, method = _fixed_free(bright, frames, mask, contact_is, min_darkness,
+                                             min_block_fraction)
             if contact_is == "dark":
                 # the noise model's residuals (frame differences: the free surface's scale
                 # does not enter) also set the excess's tile test
