@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import warnings
 
 import numpy as np
@@ -341,9 +342,11 @@ def test_to_frame_and_summary():
 def test_degenerate_data_warn_and_give_infinite_stderr():
     v = np.full(10, 2.0)  # one speed: A_D and B_D cannot be separated
     mu = DecreasingSqrtLaw(0.2, 0.095)(v)
-    with pytest.warns(UserWarning, match="could not be estimated"), \
-            pytest.warns(UserWarning, match=r"2 free parameters .* but 1 distinct velocities"):
+    with pytest.warns(UserWarning) as said:
         res = fit_law(DecreasingSqrtLaw, v, mu)
+    said = " | ".join(str(w.message) for w in said)
+    assert "could not be estimated" in said
+    assert re.search(r"2 free parameters .* but 1 distinct velocities", said)
     assert np.isinf(res.stderr["A_D"]) and np.isinf(res.stderr["B_D"])
     assert_allclose(res.law(2.0), mu[0], rtol=1e-12)  # still reproduces the data
 
@@ -613,9 +616,11 @@ def test_more_free_parameters_than_velocities_is_warned_about():
     # came back without a word (helper-10); two of Eq. 4.8 from the same runs fit quietly
     v = np.array([1.0, 1.0, 1.0, 3.0, 3.0, 3.0])
     mu = 0.2 - 0.01 * v + 1e-3 * np.array([1, -1, 0, 1, -1, 0])
-    with pytest.warns(UserWarning, match=r"3 free parameters .* but 2 distinct velocities"), \
-            pytest.warns(UserWarning, match="could not be estimated"):
+    with pytest.warns(UserWarning) as said:
         fit_law(ExponentialLaw, v, mu)
+    said = " | ".join(str(w.message) for w in said)
+    assert re.search(r"3 free parameters .* but 2 distinct velocities", said)
+    assert "could not be estimated" in said
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         fit_law(DecreasingSqrtLaw, v, mu)

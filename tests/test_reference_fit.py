@@ -185,6 +185,12 @@ def test_passing_block_with_the_rigs_empty_frame(render_clip, tmp_path):
     rel = (measured - block.loc[inside, "contact_area_mm2"]).abs() / block.loc[inside,
                                                                              "contact_area_mm2"]
     # as with the footage's own reference (tests/test_analyze.py): the block's edges are
-    # placed to a fraction of a pixel (median 0 here), frames with the block entering or
-    # leaving the view carry the motion blur of its edge (6 % at most, measured)
-    assert rel.median() <= 0.01 and rel.max() <= 0.1
+    # placed to a fraction of a pixel (median 0 here). A frame with the block entering or
+    # leaving the view (20 mm2 of it in view) carries the motion blur of its edge: its error
+    # is bounded by one pixel of that edge over the view's height, 0.2 mm x 25.6 mm =
+    # 5.1 mm2 (measured: at most 3.2 mm2, 13.7 % of an entering frame, at OpenCV 4.8 /
+    # numpy 1.24 on this session's machine; 2.6 mm2, 1.9 %, at the newest versions: the
+    # 10 % bound, relative on 20 mm2, was not the method's tolerance)
+    err = (measured - block.loc[inside, "contact_area_mm2"]).abs()
+    edge_px_mm2 = SMALL_CAMERA.mm_per_px * SMALL_CAMERA.height_px * SMALL_CAMERA.mm_per_px
+    assert rel.median() <= 0.01 and err.max() <= edge_px_mm2
