@@ -6,13 +6,25 @@ from dataclasses import dataclass
 
 from tir_common.validate import check_nonnegative, check_positive, check_range
 
-__all__ = ["PRESSURE_RANGE_PA", "Conditions"]
+__all__ = [
+    "HUMIDITY_RANGE_PCT",
+    "PRESSURE_RANGE_PA",
+    "SALINITY_RANGE_PCT",
+    "TEMPERATURE_RANGE_C",
+    "Conditions",
+]
 
 #: Nominal pressures the model takes, Pa: 0.01-1000 bar. A tread block's lies at 0.5-10 bar
 #: (the thesis's tests 1-5 bar); a factor 100 either side leaves any real one and refuses a
 #: pressure given in the other unit (2.5 bar given as Pa is 2.5e-5 bar: mu 1.5, all dry;
 #: 2.5e5 Pa given as bar: mu 4e-6; helper-12).
 PRESSURE_RANGE_PA = (1e3, 1e8)
+#: Ambient (bulk ice) temperatures the model takes, degC: ice below its melting point.
+TEMPERATURE_RANGE_C = (-60.0, 0.0)
+#: Relative humidities, %.
+HUMIDITY_RANGE_PCT = (0.0, 100.0)
+#: Salinities of the water the ice was made of, % by mass (sea water: 3.5 %).
+SALINITY_RANGE_PCT = (0.0, 3.5)
 
 
 @dataclass(frozen=True)
@@ -54,10 +66,10 @@ class Conditions:
                 f"nominal pressure), got pressure_Pa={p:g}, which is {p / 1e5:g} bar; a "
                 "pressure in bar goes through Conditions.from_bar or a pressure_bar column"
             )
-        check_range("temperature_C", self.temperature_C, -60.0, 0.0)
-        check_range("humidity_pct", self.humidity_pct, 0.0, 100.0)
+        check_range("temperature_C", self.temperature_C, *TEMPERATURE_RANGE_C)
+        check_range("humidity_pct", self.humidity_pct, *HUMIDITY_RANGE_PCT)
         check_nonnegative("salinity_pct", self.salinity_pct)
-        check_range("salinity_pct", self.salinity_pct, 0.0, 3.5)
+        check_range("salinity_pct", self.salinity_pct, *SALINITY_RANGE_PCT)
         if self.contact_fraction is not None:
             if not (0.0 < float(self.contact_fraction) <= 1.0):
                 raise ValueError(

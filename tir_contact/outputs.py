@@ -277,7 +277,8 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
     in_view = frames["block_in_view"].astype(bool)
     if len(frames) and not in_view.any():
         out.append(f"no {setup.view.subject} found in any of the {len(frames)} frames "
-                   f"analysed (reference: {setup.reference_method})" + _budget_only(frames))
+                   f"analysed (reference: {setup.reference_method})"
+                   + setup.view.none_found(frames))
     out += setup.view.warnings(frames)
     for check in (_against_direction, _beyond_faces):
         said = check(setup, frames)
@@ -295,16 +296,6 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
         out.append(f"the container was cut short: {len(lost)} frame(s) lost "
                    f"({lost[0]}-{lost[-1]})")
     return out
-
-
-def _budget_only(frames: pd.DataFrame) -> str:
-    """What the areas of a TIR video without resolved contact are (empty for a side view):
-    the darkness unmixed against full contact, whose bar is the measurement."""
-    if "contact_area_mm2" not in frames:
-        return ""
-    med = frames[["contact_area_mm2", "contact_area_low_mm2", "contact_area_high_mm2"]].median()
-    return (f": contact_area_mm2 is the darkness unmixed alone (median {med.iloc[0]:.3g} mm2, "
-            f"its bar {med.iloc[1]:.3g}-{med.iloc[2]:.3g} mm2)")
 
 
 #: Share of the view's width the block's front edge must travel (fitted line over the

@@ -116,6 +116,10 @@ class SideView:
         """None of the side view's own (its footage's are the common ones)."""
         return []
 
+    def none_found(self, frames: Any) -> str:
+        """Nothing: without a block a side view's frames hold no values."""
+        return ""
+
     def images(self) -> dict[str, np.ndarray]:
         """None: the side view writes only the tables."""
         return {}

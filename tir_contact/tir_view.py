@@ -201,6 +201,15 @@ class TirView:
                 "(--reference) or the lit zone (--lit-mask)")
         return out
 
+    def none_found(self, frames: Any) -> str:
+        """Without resolved contact in any frame the areas are the darkness unmixed alone:
+        their medians and bar (the camera sample beam.cihx: 58-60 mm2 stood beside "no
+        contact found" without a word)."""
+        med = frames[["contact_area_mm2", "contact_area_low_mm2",
+                      "contact_area_high_mm2"]].median()
+        return (f": contact_area_mm2 is the darkness unmixed alone (median {med.iloc[0]:.3g} "
+                f"mm2, its bar {med.iloc[1]:.3g}-{med.iloc[2]:.3g} mm2)")
+
     def images(self) -> dict[str, np.ndarray]:
         """``lit_mask.png``: white where TIR light reaches."""
         return {"lit_mask.png": self.tir.lit.mask.astype(np.uint8) * 255}

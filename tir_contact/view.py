@@ -110,6 +110,11 @@ class View(Protocol):
         """What the video's ``frames.csv`` calls to the user's attention, for this view."""
         ...
 
+    def none_found(self, frames: pd.DataFrame) -> str:
+        """What the frames' values are when no frame shows the subject: a clause after
+        "no <subject> found in any of the N frames" ("" when nothing is to be said)."""
+        ...
+
     def images(self) -> dict[str, np.ndarray]:
         """Images written into the result folder beside the tables, by file name."""
         ...

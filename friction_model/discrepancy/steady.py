@@ -20,7 +20,12 @@ import pandas as pd
 from scipy.interpolate import CubicSpline
 
 from friction_model._table_io import TableSource, read_table
-from friction_model.conditions import PRESSURE_RANGE_PA
+from friction_model.conditions import (
+    HUMIDITY_RANGE_PCT,
+    PRESSURE_RANGE_PA,
+    SALINITY_RANGE_PCT,
+    TEMPERATURE_RANGE_C,
+)
 from friction_model.contact.drywet import DryWetParameters
 from friction_model.contact.effects import DRY_WET_EFFECTS, Effects
 from friction_model.contact.water_layer import freezing_point_depression_K
@@ -111,19 +116,21 @@ def _check_table(table: pd.DataFrame, source: TableSource) -> dict[str, np.ndarr
     numeric = {col: source.numbers(table, col) for col in _NEEDED}
     if "mu_std" in table:
         numeric["mu_std"] = source.numbers(table, "mu_std")
-    t, rh, sal = (numeric[c] for c in ("temperature_C", "humidity_pct", "salinity_pct"))
-    p_lo, p_hi = (x / 1e5 for x in PRESSURE_RANGE_PA)
+    def outside(col: str, low: float, high: float, what: str,
+                hint: str = "") -> tuple[str, np.ndarray, str]:
+        return (col, (numeric[col] < low) | (numeric[col] > high),
+                f"{what} in [{low:g}, {high:g}]{hint}")
+
     rules = (
         ("mu", numeric["mu"] <= 0, "a number > 0"),
         ("velocity_mps", numeric["velocity_mps"] <= 0, "a number > 0"),
-        # the model's conditions (friction_model.Conditions), checked where the row is
-        # named: a table in kelvin stopped at an effect's bound on the salinity before
-        ("pressure_bar", (numeric["pressure_bar"] < p_lo) | (numeric["pressure_bar"] > p_hi),
-         f"a pressure in bar in [{p_lo:g}, {p_hi:g}]"),
-        ("temperature_C", (t < -60.0) | (t > 0.0),
-         "a temperature in degC in [-60, 0] (ice below its melting point; kelvin?)"),
-        ("humidity_pct", (rh < 0.0) | (rh > 100.0), "a relative humidity in % in [0, 100]"),
-        ("salinity_pct", (sal < 0.0) | (sal > 3.5), "a salinity in % in [0, 3.5]"),
+        # the model's conditions (friction_model.Conditions' ranges), checked where the
+        # row is named: a table in kelvin stopped at an effect's bound on the salinity
+        outside("pressure_bar", *(x / 1e5 for x in PRESSURE_RANGE_PA), "a pressure in bar"),
+        outside("temperature_C", *TEMPERATURE_RANGE_C, "a temperature in degC",
+                " (ice below its melting point; kelvin?)"),
+        outside("humidity_pct", *HUMIDITY_RANGE_PCT, "a relative humidity in %"),
+        outside("salinity_pct", *SALINITY_RANGE_PCT, "a salinity in %"),
         (
             "n_sipes",
             (numeric["n_sipes"] != np.round(numeric["n_sipes"])) | (numeric["n_sipes"] < 0),
