@@ -25,6 +25,7 @@ from tir_contact.optics import full_contact_from_meta
 from tir_contact.options import AnalysisOptions
 from tir_contact.side_view import SideView
 from tir_contact.tir_view import TirView
+from tir_contact.travel import expected_travel_px
 
 __all__ = [
     "VideoSetup",
@@ -187,17 +188,20 @@ class VideoSetup:
 
 
 def _sample_frames(reader: Any, n_sample: int, skipped: list[dict[str, Any]],
-                   bad: set[int], numbers: np.ndarray) -> list[np.ndarray]:
+                   bad: set[int], numbers: np.ndarray) -> tuple[list[np.ndarray], list[int]]:
+    """`n_sample` frames spread evenly through the video, and the recorded frame number of
+    each (a frame that cannot be read is left out and listed in `skipped` and `bad`)."""
     n = len(reader)
     idx = np.unique(np.linspace(0, n - 1, min(n, n_sample)).round().astype(int))
-    frames = []
+    frames, read = [], []
     for i in idx:
         try:
             frames.append(reader.get_frame(int(i)))
+            read.append(int(numbers[i]))
         except FootageError as exc:
             skipped.append({"frame": int(numbers[i]), "reason": str(exc)})
             bad.add(int(i))
-    return frames
+    return frames, read
 
 
 def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
@@ -238,7 +242,7 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     skipped: list[dict[str, Any]] = []
     bad: set[int] = set()
     numbers = np.asarray(reader.frame_numbers, dtype=np.int64)
-    samples = _sample_frames(reader, options.reference_frames, skipped, bad, numbers)
+    samples, sampled = _sample_frames(reader, options.reference_frames, skipped, bad, numbers)
     if not samples:
         raise FootageError(f"{path}: none of the sampled frames could be read "
                            f"(first reason: {skipped[0]['reason']})", path)
@@ -248,7 +252,8 @@ def prepare_video(reader: Any, path: Path, overrides: Mapping[str, Any] | None,
     grey_range = (float(np.percentile(pixels, 1)), float(np.percentile(pixels, 99)))
     if view == "tir":
         view_obj, notes = TirView.prepare(samples, shape, contact_is, options,
-                                          optics=_optics(meta, path, contact_is))
+                                          optics=_optics(meta, path, contact_is),
+                                          travel_px=expected_travel_px(meta, sampled))
     else:
         view_obj, notes = SideView.prepare(samples, shape, contact_is, options)
     layout = BlockLayout.from_meta(meta)

@@ -50,7 +50,7 @@ import dataclasses
 import functools
 import itertools
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import cv2
@@ -67,6 +67,7 @@ from tir_contact.measure import (
     _free_mean,
     correlation_area,
 )
+from tir_contact.travel import carried
 
 __all__ = [
     "CAMERA_MODES",
@@ -1063,6 +1064,32 @@ def _translates(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
     return _travel(samples, median, lit, contact_is) >= MIN_TRAVEL_FRACTION
 
 
+def _auto_mode(frames: list[np.ndarray], median: np.ndarray, bright: np.ndarray,
+               lit: np.ndarray, contact_is: str, min_darkness: float,
+               min_block_fraction: float, travel_px: Sequence[float] | None
+               ) -> tuple[str, FreeSurface | None]:
+    """The camera mode from the samples (:func:`tir_reference`, step 2), and the static
+    free surface of their median where the travel test made it (None otherwise).
+
+    Before the travel test (helper-11, stop 56): a physical-contact block at 1 m/s passing a
+    fixed camera (0.1 mm/px, 640 px) on 10, 20, 40 and 80 frames was taken as held, its area
+    -44, -34, -29 and -22 % (-4.4, -2.6, -1.8 and -0.4 % as "fixed"): it covers most of the
+    view in every sample, so no sample differs by a block-sized region, and it travels under
+    :data:`MIN_TRAVEL_FRACTION` of the view.
+    """
+    if len(frames) < 2:
+        return "follows", None
+    if (_moving(frames, median, bright, lit, min_darkness, min_block_fraction, contact_is)
+            or _translates(frames, median, lit, contact_is)):
+        return "fixed", None
+    if travel_px is None:
+        return "follows", None
+    held = free_surface(median, lit, contact_is=contact_is)
+    if carried(frames, held.image, lit, travel_px, contact_is):
+        return "fixed", None
+    return "follows", held
+
+
 #: A block the samples hold is bordered by the pixels its edges sweep: within this many
 #: px outside it (:func:`_held`).
 HELD_BORDER_PX = 5
@@ -1181,6 +1208,7 @@ def tir_reference(
     image: np.ndarray | None = None,
     min_darkness: float = 0.25,
     min_block_fraction: float = 0.02,
+    travel_px: Sequence[float] | None = None,
 ) -> TirReference:
     """Lit zone, camera mode, free surface and noise of a TIR video from sampled frames.
 
@@ -1191,8 +1219,11 @@ def tir_reference(
     2. Camera mode (unless `camera` names it): ``"fixed"`` when some sample differs from the
        median of the samples by a darker region larger than `min_block_fraction` of the lit
        zone (something passed), or when darker contact travels across the view through the
-       samples (:func:`_translates`: faint or patchy contact), ``"follows"`` otherwise
-       (also for fewer than 2 samples).
+       samples (:func:`_translates`: faint or patchy contact), or when the contact is
+       shifted between two samples as far as the metadata's travel says a passing block is
+       (`travel_px`, :func:`tir_contact.travel.carried`: a short clip or slow pass whose
+       block covers most of the view in every sample); ``"follows"`` otherwise (also for
+       fewer than 2 samples).
     3. Free surface: ``"fixed"``: the bright image, in which the passing block is absent;
        should it still hold a block-sized dark region (a slow block), that region is
        replaced by :func:`free_surface`. ``"follows"``: :func:`free_surface` of the median
@@ -1218,6 +1249,10 @@ def tir_reference(
         Darkness that surely is contact (camera-mode test and slow-block test).
     min_block_fraction : float
         Share of the lit zone a moving region must cover to count as a passing block.
+    travel_px : sequence of float, optional
+        Displacement (px) of a block passing a fixed camera at each sample from the first
+        (:func:`tir_contact.travel.expected_travel_px`; None: unknown, the samples alone
+        decide).
 
     Returns
     -------
@@ -1247,11 +1282,11 @@ def tir_reference(
         mode = camera if camera in CAMERA_MODES else "fixed"
         method, cand = "file", np.zeros(shape, bool)
     else:
+        held = None  # the static estimate, when the camera-mode test made it
         mode = camera
         if mode == "auto":
-            mode = ("fixed" if len(frames) >= 2 and (_moving(
-                frames, median, bright, mask, min_darkness, min_block_fraction, contact_is)
-                or _translates(frames, median, mask, contact_is)) else "follows")
+            mode, held = _auto_mode(frames, median, bright, mask, contact_is, min_darkness,
+                                    min_block_fraction, travel_px)
         if mode == "fixed" and len(frames) >= 5:
             free, cand, method = _fixed_free(bright, frames, mask, contact_is, min_darkness,
                                              min_block_fraction)
@@ -1262,7 +1297,7 @@ def tir_reference(
                 excess = _excess_over_free_mean(frames, free, mask & ~cand, residuals[:3])
                 free = free * np.float32(1.0 - excess)
         else:
-            fs = free_surface(median, mask, contact_is=contact_is)
+            fs = held if held is not None else free_surface(median, mask, contact_is=contact_is)
             free, cand = fs.image, fs.candidates
             tex = (fs.texture_sigma, fs.texture_corr_px)
             method = (f"fitted free surface ({len(frames)} frame(s); closing "

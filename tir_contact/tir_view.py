@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -105,8 +106,8 @@ class TirView:
 
     @classmethod
     def prepare(cls, samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
-                options: AnalysisOptions, *, optics: tuple[float, str] | None = None
-                ) -> tuple[TirView, list[str]]:
+                options: AnalysisOptions, *, optics: tuple[float, str] | None = None,
+                travel_px: Sequence[float] | None = None) -> tuple[TirView, list[str]]:
         """The view of a video from its sampled frames, and the warnings found.
 
         The free surface and noise (:func:`_tir_reference`), the contrast
@@ -118,9 +119,11 @@ class TirView:
         are measured too, and the model is made again on them (:func:`_remeasured`).
         `optics`: full contact's darkness from the rig's optics and its source
         (:func:`tir_contact.optics.full_contact_from_meta`), for a video without resolved
-        contact.
+        contact. `travel_px`: a passing block's displacement at each sample from the first
+        (:func:`tir_contact.travel.expected_travel_px`; the camera-mode test's evidence).
         """
-        tref, ref_fit, notes = _tir_reference(samples, shape, contact_is, options)
+        tref, ref_fit, notes = _tir_reference(samples, shape, contact_is, options,
+                                              travel_px)
         contrast = options.contrast
         if contrast is None:
             contrast = _contrast(samples, tref, contact_is, options)
@@ -573,7 +576,7 @@ def _static(tref: TirReference) -> bool:
 
 
 def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is: str,
-                   options: AnalysisOptions
+                   options: AnalysisOptions, travel_px: Sequence[float] | None = None
                    ) -> tuple[TirReference, ReferenceFit | None, list[str]]:
     """Lit zone, camera mode, free surface and noise (:func:`tir_contact.reference.tir_reference`)
     with the user's lit mask and reference image, when given.
@@ -588,7 +591,8 @@ def _tir_reference(samples: list[np.ndarray], shape: tuple[int, int], contact_is
                   min_darkness=options.min_darkness,
                   min_block_fraction=options.min_block_fraction)
     try:
-        own = tir_reference(samples, camera=options.camera, lit=lit, **kwargs)
+        own = tir_reference(samples, camera=options.camera, lit=lit, travel_px=travel_px,
+                            **kwargs)
         if options.reference is None:
             return own, None, []
         raw = read_reference_file(options.reference, shape).image
