@@ -24,7 +24,7 @@ def _frames(shifts_px: list[int], *, seed: int = 0) -> tuple[list[np.ndarray], n
     a 200 px stretch (a rough block's real contact: a few % of it, none of it block-sized),
     shifted along the rows by each of `shifts_px`; and the field itself (the free surface)."""
     rng = np.random.default_rng(seed)
-    yy, xx = np.mgrid[:120, :400]
+    xx = np.mgrid[:120, :400][1]
     light = 200.0 * (1.0 - 0.3 * ((xx - 200) / 200.0) ** 2)
     spots = (rng.random((120, 800)) < 0.04) & (np.arange(800) >= 300) & (np.arange(800) < 500)
     frames = []
