@@ -38,6 +38,11 @@ def table_4_6_targets(velocities_mps: Sequence[float] | None = None) -> pd.DataF
         ``curve, velocity_mps, pressure_bar, pressure_Pa, temperature_C, humidity_pct,
         mu_target``.
 
+    Raises
+    ------
+    ValueError
+        A velocity that is not finite and > 0 (the laws diverge at standstill).
+
     Examples
     --------
     >>> t = table_4_6_targets([1.0])
@@ -45,6 +50,10 @@ def table_4_6_targets(velocities_mps: Sequence[float] | None = None) -> pd.DataF
     [0.295, 0.175, 0.105, 0.06]
     """
     v = np.asarray(velocities_mps if velocities_mps is not None else np.arange(1.0, 8.0), float)
+    if v.ndim != 1 or not np.all(np.isfinite(v)) or np.any(v <= 0):
+        # the laws A v^(+-1/2) + B hold for sliding (helper-12: 0 m/s gave mu inf)
+        raise ValueError(f"velocities_mps must be a sequence of finite velocities > 0 m/s, "
+                         f"got {velocities_mps!r}")
     rows = []
     for name, T, rh, p_bar, law, A, B in TABLE_4_6:
         mu = A * v**-0.5 + B if law == "decreasing" else A * v**0.5 + B

@@ -20,6 +20,13 @@ def test_targets_are_table_4_6():
     assert t[("warm-humid 5 bar", 1.0)] == pytest.approx(0.06, abs=1e-12)
 
 
+@pytest.mark.parametrize("velocities", [[0.0], [1.0, -2.0], [float("inf")]])
+def test_targets_are_sampled_where_the_laws_hold(velocities):
+    # A v^-1/2 + B diverges at standstill: [0] gave mu inf (helper-12)
+    with pytest.raises(ValueError, match=r"velocities_mps .* > 0 m/s"):
+        table_4_6_targets(velocities)
+
+
 def test_default_parameters_meet_the_target():
     # RMSE <= 0.010 per curve (required; 0.015 before the one rubber) and the measured direction
     table, rmse = evaluate_on_table_4_6(DryWetParameters())

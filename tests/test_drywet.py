@@ -396,3 +396,17 @@ def test_a_column_beside_the_one_it_resembles_is_not_warned_about():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         friction_table(G3, pd.DataFrame([row]))
+
+
+@pytest.mark.parametrize("humidity_pct", [140.0, -5.0, float("nan")])
+def test_a_humidity_that_is_not_air_is_refused(humidity_pct):
+    """A relative humidity beyond saturation (helper-12: 140 % grew the bound layer by the
+    gain's 1.4x share without a word), below 0 or NaN is an error naming the field."""
+    from friction_model.contact.water_layer import initial_water_layer_m
+
+    with pytest.raises(ValueError, match=r"humidity_pct .*0\.\.100"):
+        initial_water_layer_m(8.0, humidity_pct, qll_thickness_m=1e-7, humidity_gain=0.5)
+    # both ends of the range are air: the law of the docstring, h0 (1 + gain rh / 100)
+    h = initial_water_layer_m(8.0, np.array([0.0, 100.0]), qll_thickness_m=1e-7,
+                              humidity_gain=0.5)
+    assert_allclose(h, [5e-8, 7.5e-8], rtol=1e-12)

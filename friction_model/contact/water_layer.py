@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from friction_model.conditions import HUMIDITY_RANGE_PCT
+
 __all__ = ["freezing_point_depression_K", "initial_water_layer_m"]
 
 # NaCl(aq): mass fraction in % -> freezing-point depression in K (CRC Handbook).
@@ -94,7 +96,7 @@ def initial_water_layer_m(
         Distance of the ice temperature below its melting point, K (> 0; values below
         0.05 K are treated as 0.05 K to keep the premelting law finite).
     humidity_pct : float or ndarray
-        Relative humidity, % (0..100).
+        Relative humidity, % (0..100; :data:`friction_model.conditions.HUMIDITY_RANGE_PCT`).
     qll_thickness_m : float
         Layer thickness at 1 K below the melting point in dry air, m.
     humidity_gain : float
@@ -105,6 +107,11 @@ def initial_water_layer_m(
     ndarray
         h0 in m.
 
+    Raises
+    ------
+    ValueError
+        A humidity outside 0..100 % or not finite.
+
     Examples
     --------
     >>> float(initial_water_layer_m(8.0, 0.0, qll_thickness_m=1e-7, humidity_gain=0.0))
@@ -112,4 +119,10 @@ def initial_water_layer_m(
     """
     dT = np.maximum(np.asarray(delta_T_K, dtype=float), 0.05)
     rh = np.asarray(humidity_pct, dtype=float)
+    lo, hi = HUMIDITY_RANGE_PCT
+    if np.any(~np.isfinite(rh)) or np.any(rh < lo) or np.any(rh > hi):
+        # a relative humidity beyond saturation (helper-12: 140 % grew the layer 1.4x
+        # without a word) or a fraction given for a percentage is not air
+        raise ValueError(f"humidity_pct must be a relative humidity in % ({lo:g}..{hi:g}), "
+                         f"got {humidity_pct!r}")
     return qll_thickness_m * dT ** (-1.0 / 3.0) * (1.0 + humidity_gain * rh / 100.0)
