@@ -58,6 +58,7 @@ from tir_contact.segment import (
     estimate_contrast,
     segment_frame,
 )
+from tir_contact.tilt import EdgeTilt, edge_tilt, tilt_warning
 from tir_contact.view import FrameResult, fully_in_view, read_reference_file, wants_regions
 
 __all__ = ["TirFrames", "TirView"]
@@ -81,6 +82,9 @@ class TirView:
     reference_fit : ReferenceFit or None
         With ``--reference``: gain, shift and residual of the user's image fitted to the
         footage (:func:`tir_contact.reference_fit.fit_reference`).
+    edge_tilt : EdgeTilt or None
+        The orientation of the contact's edges in the sampled frames
+        (:func:`tir_contact.tilt.edge_tilt`).
     """
 
     name: ClassVar[str] = "tir"
@@ -90,6 +94,7 @@ class TirView:
     threshold: float
     area_model: AreaModel | None = None
     reference_fit: ReferenceFit | None = None
+    edge_tilt: EdgeTilt | None = None
 
     @property
     def reference(self) -> Reference:
@@ -146,7 +151,8 @@ class TirView:
         # the decision where the two populations separate (tir_contact.measure): half
         # the darkness of full contact, at least the free surface's reach
         threshold, contrast = model.threshold, model.contact_darkness
-        return cls(tref, contrast, threshold, model, ref_fit), notes + model.notes
+        tilt = edge_tilt(samples, tref.reference, threshold, contact_is)
+        return cls(tref, contrast, threshold, model, ref_fit, tilt), notes + model.notes
 
     @staticmethod
     def population_model(samples: list[np.ndarray], tref: TirReference, contact_is: str,
@@ -189,6 +195,11 @@ class TirView:
         noisy = _too_noisy(self.tir)
         if noisy is not None:
             out.append(noisy)
+        angles = (int(np.isfinite(frames["deflection_angle_deg"].to_numpy(float)).sum())
+                  if "deflection_angle_deg" in frames else 0)
+        tilted = tilt_warning(self.edge_tilt, angles)
+        if tilted is not None:
+            out.append(tilted)
         if self.area_model is not None and _may_fill_zone(self.tir, self.area_model):
             # the frames the bar's fill applies to (TirFrames.extra_columns: the same test)
             empty = int((~frames["block_in_view"].astype(bool)).sum())
@@ -225,6 +236,9 @@ class TirView:
             "threshold": _finite_or_none(self.threshold),
             **({"populations": self.area_model.summary()} if self.area_model is not None
                else {}),
+            **({"edge_tilt": {"tilt_deg": round(self.edge_tilt.tilt_deg, 3),
+                              "coherence": round(self.edge_tilt.coherence, 3)}}
+               if self.edge_tilt is not None else {}),
         }
 
 
