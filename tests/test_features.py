@@ -247,6 +247,10 @@ def test_without_geometry_the_contact_is_one_strip():
         assert f.frame["contact_area_mm2"] == pytest.approx(np.count_nonzero(d) * PX**2)
         assert f.frame["block_front_x_mm"] == pytest.approx(front)  # leading column boundary
         assert math.isnan(f.frame["contact_ratio"])
+        # no elements to count: NaN, not 0 ("none in contact"; helper-11)
+        assert math.isnan(f.frame["n_elements_in_contact"])
+    assert math.isnan(features(np.zeros_like(d), BlockLayout(PX, "left"))
+                      .frame["n_elements_in_contact"])
     f = features(d, BlockLayout(PX, "left"))
     assert f.frame["front_peak_x_mm"] == pytest.approx(2.2, abs=0.05)  # the darker columns
     assert f.frame["front_peak_contrast"] == pytest.approx(0.1, abs=1e-5)

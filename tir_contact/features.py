@@ -76,7 +76,8 @@ image, times the rows the contact spans (first to last row holding contact; with
 only valid pixels of that footprint count). NaN without geometry or contact.
 
 Without geometry (``element_lengths_mm=None``, e.g. a finger or a tyre footprint) the whole
-contact is one strip: area, number of regions, ``block_in_view`` (any contact),
+contact is one strip (``n_elements_in_contact`` NaN: no elements to count): area, number of
+regions, ``block_in_view`` (any contact),
 ``block_front_x_mm`` (the leading boundary of the most leading contact column, ±0.5 px) and
 the front peak of the mean darkness of the contact pixels of each column are reported; the
 elements table is empty.
@@ -855,6 +856,9 @@ def _frame_without_geometry(
     total = int(counts[c_lo:c_hi].sum())
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
+    # no elements to count without the block's geometry (0 read as "none in contact";
+    # helper-11)
+    frame["n_elements_in_contact"] = _NAN
     prof = _masked_column_mean(d, contact.mask, counts, c_lo, c_hi)
     if flip:
         prof = prof[::-1]
@@ -1115,7 +1119,10 @@ def frame_rows(
     if free is not None and layout.element_lengths_mm is not None:
         graded = _graded_profiles(d, span, faint_box, free, layout, sums)
     if span is None and graded is None:
-        return _empty_frame(contact.n_regions), []
+        empty = _empty_frame(contact.n_regions)
+        if layout.element_lengths_mm is None:
+            empty["n_elements_in_contact"] = _NAN
+        return empty, []
     if layout.element_lengths_mm is None:
         return _frame_without_geometry(d, contact, layout, counts, span, peak_window_mm,
                                        valid, valid_counts), []
