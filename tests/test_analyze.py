@@ -181,6 +181,23 @@ def test_a_front_that_jumps_back_an_element_is_not_a_wrong_direction(render_clip
         assert len(said) == n_warned, (direction, said)
 
 
+def test_half_the_scale_is_warned_about_by_the_elements_found(analysed, clip, tmp_path):
+    """At the clip's own scale every element of the G3 block is found in contact: no
+    warning. At half its mm_per_px the element template spans twice the block's length in
+    the image and the contact fills only its first two elements: contact_ratio 0.48 (a
+    patchy or G7 contact reads that low at the true scale), no word before (helper-11);
+    the elements found say it now."""
+    _, res = analysed
+    summary = json.loads((res / "summary.json").read_text())
+    assert not [w for w in summary["warnings"] if "elements but" in w]
+    mm = json.loads((clip / "meta.json").read_text())["mm_per_px"]
+    result = analyze_video(clip, tmp_path / "out", overrides={"mm_per_px": 0.5 * mm},
+                           options=FAST)
+    said = [w for w in result.summary["warnings"] if "elements but" in w]
+    assert len(said) == 1 and "block has 4 elements" in said[0], said
+    assert f"mm_per_px {0.5 * mm:g}" in said[0]
+
+
 def test_contact_beyond_the_element_faces_is_warned_about(analysed, clip, tmp_path):
     """At the clip's own scale the contact lies on the element faces (contact_ratio at
     most 1: no warning); at three times its mm_per_px the faces the geometry gives are a

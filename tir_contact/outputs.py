@@ -280,7 +280,7 @@ def footage_warnings(setup: VideoSetup, frames: pd.DataFrame, lost: list[int]) -
                    f"analysed (reference: {setup.reference_method})"
                    + setup.view.none_found(frames))
     out += setup.view.warnings(frames)
-    for check in (_against_direction, _beyond_faces):
+    for check in (_against_direction, _beyond_faces, _fewer_elements):
         said = check(setup, frames)
         if said:
             out.append(said)
@@ -389,6 +389,38 @@ def _beyond_faces(setup: VideoSetup, frames: pd.DataFrame) -> str | None:
     return (f"the contact covers {float(np.median(ratio)):.3g} times the block's element "
             f"faces (contact_ratio, median over {ratio.size} frames): the image scale "
             f"(mm_per_px {setup.mm_per_px:g}) or the block's geometry in meta.json is wrong")
+
+
+#: Share of the block's elements that the frames showing the whole block find in contact
+#: (median) at or below which the scale or the geometry is taken as wrong. At a scale k
+#: times the true one (k < 1) the element template spans 1/k times the block's length in
+#: the image, and the contact fills only its first k N elements: half the true mm_per_px
+#: found 2 of G3's 4 elements and 4 of G7's 8 (helper-11), the true scale all of them
+#: (solid and patchy contact). A block on ice keeps every element in contact while it
+#: slides; lift-off shortens an element's contact, it does not remove it.
+MIN_ELEMENT_SHARE = 0.5
+
+
+def _fewer_elements(setup: VideoSetup, frames: pd.DataFrame) -> str | None:
+    """A warning when the frames that show the whole block find at most
+    :data:`MIN_ELEMENT_SHARE` of its elements in contact (median; a too small
+    ``mm_per_px`` or a wrong block geometry), else None."""
+    lengths = getattr(setup.layout, "element_lengths_mm", None)
+    if (setup.view_name != "tir" or lengths is None or len(lengths) < 2
+            or "n_elements_in_contact" not in frames or "block_fully_in_view" not in frames):
+        return None
+    whole = frames["block_fully_in_view"].astype(bool).to_numpy()
+    found = frames["n_elements_in_contact"].to_numpy(float)[whole]
+    found = found[np.isfinite(found)]
+    if not found.size:
+        return None
+    median = float(np.median(found))
+    if median > MIN_ELEMENT_SHARE * len(lengths):
+        return None
+    return (f"the block has {len(lengths)} elements but the frames that show it whole find "
+            f"{median:g} in contact (median over {found.size} frames): the image scale "
+            f"(mm_per_px {setup.mm_per_px:g}) may be too small or the block's geometry in "
+            "meta.json wrong (at half the true scale half the elements are found)")
 
 
 def _gaps(numbers: np.ndarray) -> list[dict[str, int]]:
