@@ -198,6 +198,20 @@ def test_half_the_scale_is_warned_about_by_the_elements_found(analysed, clip, tm
     assert f"mm_per_px {0.5 * mm:g}" in said[0]
 
 
+def test_a_small_lit_zone_is_not_a_wrong_scale(render_clip, tmp_path):
+    """A lit disc of a fifth of the frame shows only the elements inside it: at the true
+    scale the frames with the whole block in the frame found 2 of 4 in contact, and the
+    scale check warned (helper-15's review). Elements outside the lit zone say nothing of
+    the scale: no such warning."""
+    from synthetic.footage import CameraSettings
+
+    cam = CameraSettings(mm_per_px=0.2, width_px=320, height_px=128, lit_shape="disc",
+                         lit_fraction=0.2)
+    folder = render_clip(tmp_path / "disc", n_frames=60, camera=cam, seed=3)
+    res = analyze_video(folder, options=FAST)
+    assert not [w for w in res.summary["warnings"] if "elements but" in w]
+
+
 def test_contact_beyond_the_element_faces_is_warned_about(analysed, clip, tmp_path):
     """At the clip's own scale the contact lies on the element faces (contact_ratio at
     most 1: no warning); at three times its mm_per_px the faces the geometry gives are a

@@ -43,3 +43,18 @@ def test_round_static_contact_has_no_edge_direction(render_clip, tmp_path):
     res = analyze_video(folder, options=FAST)
     assert res.summary["edge_tilt"]["coherence"] < 0.9
     assert not [w for w in res.summary["warnings"] if "tilted" in w]
+
+
+def test_edges_along_the_rows_are_not_judged():
+    """A long narrow contact (280 x 6 px) whose sides along the rows dominate: the tensor
+    reads about 90 deg with high coherence; these are not the elements' front and back
+    edges, and a "tilted 90 deg" warning would be nonsense (helper-15's review)."""
+    from tir_contact.flatfield import Reference
+    from tir_contact.tilt import edge_tilt, tilt_warning
+
+    frame = np.full((100, 320), 200.0)
+    frame[47:53, 20:300] = 20.0
+    ref = Reference(np.full(frame.shape, 200.0), np.ones(frame.shape, bool), "file", 1)
+    tilt = edge_tilt([frame], ref, 0.45)
+    assert abs(tilt.tilt_deg) > 45 and tilt.straight
+    assert tilt_warning(tilt, n_angles=10) is None

@@ -85,7 +85,8 @@ elements table is empty.
 Limits
 ------
 * The path must run along the image x axis (no ``rotation_deg``; element edges tilted
-  beyond 1.5 deg are warned about, :mod:`tir_contact.tilt`); elements must span their
+  beyond 1.5 deg are warned about where straight front and back edges dominate the
+  contact, :mod:`tir_contact.tilt`); elements must span their
   rows (strips across the view), as in a block wider than the view or a block seen whole.
 * Sipes must be resolved (a gap of >= 1 column below half coverage) or the template split
   is used, which puts the split at the template's sipe centre (no sub-pixel edge there).

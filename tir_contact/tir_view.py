@@ -151,7 +151,7 @@ class TirView:
         # the decision where the two populations separate (tir_contact.measure): half
         # the darkness of full contact, at least the free surface's reach
         threshold, contrast = model.threshold, model.contact_darkness
-        tilt = edge_tilt(samples, tref.reference, threshold, contact_is)
+        tilt = edge_tilt(samples, tref.reference, threshold, contact_is, full_darkness=contrast)
         return cls(tref, contrast, threshold, model, ref_fit, tilt), notes + model.notes
 
     @staticmethod
