@@ -857,9 +857,6 @@ def _frame_without_geometry(
     total = int(counts[c_lo:c_hi].sum())
     frame = _empty_frame(contact.n_regions, total * px * px)
     frame["block_in_view"] = True
-    # no elements to count without the block's geometry (0 read as "none in contact";
-    # helper-11)
-    frame["n_elements_in_contact"] = _NAN
     prof = _masked_column_mean(d, contact.mask, counts, c_lo, c_hi)
     if flip:
         prof = prof[::-1]
@@ -1116,17 +1113,18 @@ def frame_rows(
     n_cols = d.shape[1]
     counts, row_counts = contact.line_counts
     span = _contact_span(contact, counts, row_counts)
+    if layout.element_lengths_mm is None:
+        frame = (_empty_frame(contact.n_regions) if span is None else _frame_without_geometry(
+            d, contact, layout, counts, span, peak_window_mm, valid, valid_counts))
+        # no elements to count without the block's geometry (0 read as "none in
+        # contact"; helper-11)
+        frame["n_elements_in_contact"] = _NAN
+        return frame, []
     graded = None
-    if free is not None and layout.element_lengths_mm is not None:
+    if free is not None:
         graded = _graded_profiles(d, span, faint_box, free, layout, sums)
     if span is None and graded is None:
-        empty = _empty_frame(contact.n_regions)
-        if layout.element_lengths_mm is None:
-            empty["n_elements_in_contact"] = _NAN
-        return empty, []
-    if layout.element_lengths_mm is None:
-        return _frame_without_geometry(d, contact, layout, counts, span, peak_window_mm,
-                                       valid, valid_counts), []
+        return _empty_frame(contact.n_regions), []
     flip = layout.sliding_direction == "right"
     edge_level = need = None
     if graded is None:

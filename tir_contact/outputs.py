@@ -349,13 +349,14 @@ def _against_direction(setup: VideoSetup, frames: pd.DataFrame) -> str | None:
     and front peaks on the wrong side), else None."""
     if setup.camera != "fixed" or not len(frames) or "block_front_x_mm" not in frames:
         return None
-    seen = frames[frames["block_in_view"].astype(bool)]
+    shown = frames["block_in_view"].astype(bool).to_numpy()
+    seen = frames[shown]
     x = seen["block_front_x_mm"].to_numpy(float)
     t = seen["time_s"].to_numpy(float)
     ok = np.isfinite(x) & np.isfinite(t)
     # consecutive rows of the frames table (a frame without a front, or without the
     # block, ends a stretch)
-    row = np.flatnonzero(frames["block_in_view"].astype(bool).to_numpy())[ok]
+    row = np.flatnonzero(shown)[ok]
     fit = _front_travel(row, t[ok], x[ok], setup.mm_per_px)
     if fit is None:
         return None

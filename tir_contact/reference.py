@@ -67,7 +67,7 @@ from tir_contact.measure import (
     _free_mean,
     correlation_area,
 )
-from tir_contact.travel import carried
+from tir_contact.travel import carried, column_profiles
 
 __all__ = [
     "CAMERA_MODES",
@@ -109,6 +109,9 @@ class FreeSurface:
         below :data:`TEXTURE_SCALE_PX` on the free surface at least that far inside the
         lit zone's edge (:func:`_texture`, :func:`_inner`): what an estimate continued
         over a contact cannot follow there.
+    first_candidates_px : int
+        Candidate pixels of the starting disc, before it grew (the estimate's
+        ``candidates`` when it did not grow).
     """
 
     image: np.ndarray
@@ -117,6 +120,7 @@ class FreeSurface:
     widest_px: float
     texture_sigma: float = 0.0
     texture_corr_px: float = 1.0
+    first_candidates_px: int = 0
 
 
 #: Darkness below the closing that a contact reaches and a fold of the light need not:
@@ -593,6 +597,7 @@ def free_surface(
         return trial[1].sum() <= 1.2 * cand.sum() + 0.01 * cand.size
 
     closed, cand, widest = candidates(size)
+    first = int(np.count_nonzero(cand))
     for _ in range(6):
         if not grow or size >= largest:
             break
@@ -624,7 +629,7 @@ def free_surface(
     if contact_is == "bright":
         surface = (top - surface).astype(np.float32)
     tex, tex_corr = _texture(smooth, _inner(lit_mask, ~margin)) if texture else (0.0, 1.0)
-    return FreeSurface(surface, cand, size, widest, tex, tex_corr)
+    return FreeSurface(surface, cand, size, widest, tex, tex_corr, first)
 
 
 def _dark_beyond(smooth: np.ndarray, cand: np.ndarray, lit: np.ndarray) -> bool:
@@ -1037,11 +1042,8 @@ def _travel(samples: list[np.ndarray], median: np.ndarray, lit: np.ndarray,
     cols = np.flatnonzero(lit.any(axis=0))
     if len(samples) < 2 or cols.size < 2:
         return 0.0
-    a, b = int(cols[0]), int(cols[-1]) + 1
-    zone = lit[:, a:b]
-    n = np.maximum(zone.sum(axis=0), 1).astype(np.float32)
-    prof = np.array([dark[:, a:b].sum(axis=0) / n for dark in
-                     _departures(samples, median, median, lit, contact_is)])
+    prof = column_profiles(samples, median, lit, slice(int(cols[0]), int(cols[-1]) + 1),
+                           contact_is)
     prof -= np.median(prof, axis=1, keepdims=True)
     mid = np.median(prof, axis=0)
     spread = 1.4826 * np.median(np.abs(prof - mid), axis=0)
@@ -1143,14 +1145,12 @@ def _fixed_free(bright: np.ndarray, frames: list[np.ndarray], mask: np.ndarray,
     the block replaced by a fitted surface; ``(free, candidates, method)``."""
     cand = np.zeros(bright.shape, bool)
     free, method = bright, "percentile"
-    # does the percentile image still hold the block (a slow pass)? One closing
-    # tells; the grown estimate only when it does
     need = min_block_fraction * max(1, mask.sum())
+    # one grown estimate; its first disc's candidates tell whether the percentile image
+    # still holds the block (a slow pass)
     fs = free_surface(bright, mask, contact_is=contact_is,
-                      candidate_darkness=min_darkness, grow=False, texture=False)
-    if fs.candidates.sum() > need:
-        fs = free_surface(bright, mask, contact_is=contact_is,
-                          candidate_darkness=min_darkness, texture=False)
+                      candidate_darkness=min_darkness, texture=False)
+    if fs.first_candidates_px > need:
         if fs.candidates.sum() > need:
             free, cand = fs.image, fs.candidates
             method = ("percentile, the block it still holds replaced by a fitted "
@@ -1162,8 +1162,6 @@ def _fixed_free(bright: np.ndarray, frames: list[np.ndarray], mask: np.ndarray,
         # finds dark regions of any width, and of them the ones a passing block
         # holds are replaced (_held: a static dark patch of the light or the ice,
         # which the grown disc finds as well, is not)
-        fs = free_surface(bright, mask, contact_is=contact_is,
-                          candidate_darkness=min_darkness, texture=False)
         held = _held(fs.candidates, frames, bright, mask, min_darkness, contact_is)
         if held.sum() > need:
             near = cv2.dilate(held.view(np.uint8), np.ones(

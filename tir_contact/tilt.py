@@ -69,6 +69,10 @@ class EdgeTilt:
         """Whether straight parallel edges dominate (:data:`MIN_COHERENCE`)."""
         return self.coherence >= MIN_COHERENCE
 
+    def summary(self) -> dict[str, float]:
+        """``summary.json``'s ``edge_tilt``."""
+        return {"tilt_deg": round(self.tilt_deg, 3), "coherence": round(self.coherence, 3)}
+
 
 def edge_tilt(samples: Sequence[np.ndarray], reference: Reference, threshold: float,
               contact_is: str = "dark", *, full_darkness: float | None = None,

@@ -236,9 +236,8 @@ class TirView:
             "threshold": _finite_or_none(self.threshold),
             **({"populations": self.area_model.summary()} if self.area_model is not None
                else {}),
-            **({"edge_tilt": {"tilt_deg": round(self.edge_tilt.tilt_deg, 3),
-                              "coherence": round(self.edge_tilt.coherence, 3)}}
-               if self.edge_tilt is not None else {}),
+            **({"edge_tilt": self.edge_tilt.summary()} if self.edge_tilt is not None
+               else {}),
         }
 
 

@@ -7,7 +7,7 @@ covers most of the view in every sample and no sample is free of it), the metada
 over the time between two samples a passing block travels ``v dt / mm_per_px`` px along the
 sliding direction (:func:`expected_travel_px`). The contact's profile along the rows in the
 later sample is then the earlier one shifted by that much; held contact's is not shifted
-(:func:`profile_lag_px`). The hypothesis that correlates clearly better wins
+(:func:`column_profiles`). The hypothesis that correlates clearly better wins
 (:func:`carried`).
 
 Measured (profiles of darkness against the samples' fitted free surface; seed 0's domain
@@ -60,13 +60,25 @@ def expected_travel_px(meta: Mapping[str, Any], frame_numbers: Sequence[int]) ->
     return sign * abs(float(velocity)) * 1e3 * dt_s / float(meta["mm_per_px"])
 
 
-def _profile(frame: np.ndarray, free: np.ndarray, lit: np.ndarray, cols: slice,
-             sign: float) -> np.ndarray:
-    """Mean darkness against `free` down each column of the lit zone (contact positive)."""
-    f = np.asarray(frame, np.float32)[:, cols]
-    z = lit[:, cols] & np.isfinite(f)
-    dark = np.where(z, (free[:, cols] - f) / np.maximum(free[:, cols], 1e-6), 0.0) * sign
-    return dark.sum(axis=0) / np.maximum(z.sum(axis=0), 1)
+def column_profiles(samples: Sequence[np.ndarray], base: np.ndarray, lit: np.ndarray,
+                    cols: slice, contact_is: str = "dark") -> np.ndarray:
+    """Each sample's darkness against `base` (``(base - f) / base``, contact positive; 0
+    outside `lit`) averaged down each column `cols` of the lit zone: one profile along the
+    rows per sample, (n_samples, n_cols) float32.
+
+    Examples
+    --------
+    >>> base = np.full((4, 3), 100.0, np.float32)
+    >>> frame = base.copy(); frame[:2, 1] = 50.0
+    >>> column_profiles([frame], base, np.ones((4, 3), bool), slice(0, 3)).tolist()
+    [[0.0, 0.25, 0.0]]
+    """
+    base = np.asarray(base, np.float32)
+    inv = np.where(lit, 1.0 / np.maximum(base, 1e-6), 0.0).astype(np.float32)
+    sign = np.float32(1.0 if contact_is == "dark" else -1.0)
+    n = np.maximum(lit[:, cols].sum(axis=0), 1).astype(np.float32)
+    return np.array([(((base - np.asarray(f, np.float32)) * inv * sign)[:, cols]).sum(axis=0)
+                     / n for f in samples], np.float32)
 
 
 def _correlation(a: np.ndarray, b: np.ndarray, s: int) -> float:
@@ -80,21 +92,6 @@ def _correlation(a: np.ndarray, b: np.ndarray, s: int) -> float:
     y = y - y.mean()
     den = float(np.sqrt((x * x).sum() * (y * y).sum()))
     return float((x * y).sum()) / den if den > 0 else -np.inf
-
-
-def profile_lag_px(a: np.ndarray, b: np.ndarray, max_shift: int) -> int:
-    """The shift s (px, -max_shift..max_shift) at which ``b[x + s]`` correlates best with
-    ``a[x]`` (Pearson over the overlap, at least :data:`MIN_OVERLAP_SHARE` of the length).
-
-    Examples
-    --------
-    >>> x = np.arange(200.0)
-    >>> a = np.exp(-((x - 80) / 10) ** 2)
-    >>> profile_lag_px(a, np.roll(a, -23), 40)
-    -23
-    """
-    shifts = range(-max_shift, max_shift + 1)
-    return max(shifts, key=lambda s: _correlation(a, b, s))
 
 
 #: A passing block's contact deforms between the samples: its lag is looked for within
@@ -168,9 +165,7 @@ def carried(samples: Sequence[np.ndarray], free: np.ndarray, lit: np.ndarray,
     if abs(expected) < MIN_TRAVEL_PX:
         return None
     span = slice(int(cols[0]), int(cols[-1]) + 1)
-    sign = 1.0 if contact_is == "dark" else -1.0
-    free = np.asarray(free, np.float32)
-    a, b = (_profile(samples[i], free, lit, span, sign) for i in (0, k))
+    a, b = column_profiles([samples[0], samples[k]], free, lit, span, contact_is)
     # either way along the rows: a block passing against sliding_direction is a fixed
     # camera too (outputs._against_direction then says so)
     lo, hi = abs(expected) * (1 - TRAVEL_TOLERANCE), abs(expected) * (1 + TRAVEL_TOLERANCE)
